@@ -251,7 +251,8 @@ def build_base_complex(strokes: list[np.ndarray], grid: float = GRID) -> BaseCom
         patches=patches, node_component=node_component, num_components=num_components,
         grid=grid,
     )
-    _nest_components(complex_, cycles, face_of, outer_faces, face_component, face_to_patch)
+    _nest_components(complex_, cycles, face_of, half_area, outer_faces, face_component,
+                     face_to_patch)
     complex_.curve_patches = face_to_patch[face_of].reshape(-1, 2)
     order = np.argsort(curve_nodes.ravel(), kind="stable")
     splits = np.searchsorted(curve_nodes.ravel()[order], np.arange(1, len(nodes)))
@@ -262,7 +263,7 @@ def build_base_complex(strokes: list[np.ndarray], grid: float = GRID) -> BaseCom
 
 
 def _nest_components(cx: BaseComplex, cycles: list[list[int]], face_of: np.ndarray,
-                     outer_faces: np.ndarray, face_component: np.ndarray,
+                     half_area: np.ndarray, outer_faces: np.ndarray, face_component: np.ndarray,
                      face_to_patch: np.ndarray) -> None:
     """Make each component drawn inside a patch of another component a hole of that patch."""
     if cx.num_components < 2 or not cx.patches:
@@ -285,6 +286,7 @@ def _nest_components(cx: BaseComplex, cycles: list[list[int]], face_of: np.ndarr
         face_to_patch[face] = host
         for ring in _split_rings(cycles[face], face_of, face):
             cx.patches[host].holes.append(_as_ring(ring))
+            cx.patches[host].area += float(half_area[ring].sum())  # clockwise: negative
 
 
 def check_euler(cx: BaseComplex) -> None:
