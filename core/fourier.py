@@ -64,8 +64,25 @@ def fourier_descriptor(ring: np.ndarray, n: int = DEFAULT_SAMPLES) -> np.ndarray
 
 
 def curve_descriptors(curves: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.ndarray:
-    """Descriptors of open curves, each taken as its slender ring."""
-    return fourier_descriptors([slender_ring(c) for c in curves], n)
+    """Descriptors of open curves, each taken as its slender ring.
+
+    The slender ring is resampled directly: arc position t along the ring of length 2L is
+    the curve's point at t for t < L and at 2L - t after, so it is never built.
+    """
+    out = np.empty((len(curves), n // 2))
+    for k, curve in enumerate(curves):
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(curve, axis=0).T))])
+        t = np.arange(n) * (2.0 * s[-1] / n)
+        u = np.where(t <= s[-1], t, 2.0 * s[-1] - t)
+        samples = np.stack([np.interp(u, s, curve[:, 0]), np.interp(u, s, curve[:, 1])], axis=1)
+        out[k] = _descriptor_of_samples(samples, n)
+    return out
+
+
+def _descriptor_of_samples(samples: np.ndarray, n: int) -> np.ndarray:
+    radius = np.hypot(*(samples - samples.mean(axis=0)).T)
+    coeffs = np.abs(np.fft.rfft(radius)) / n
+    return coeffs[1:] / coeffs[0] if coeffs[0] > 0 else np.zeros(n // 2)
 
 
 def fd_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -34,3 +34,24 @@ def split_coordinates(geoms: np.ndarray) -> list[np.ndarray]:
 
 def polyline_length(points: np.ndarray) -> float:
     return float(np.hypot(*np.diff(points, axis=0).T).sum())
+
+
+def arc_lengths(points: np.ndarray) -> np.ndarray:
+    """Cumulative arc length at each point, starting at 0."""
+    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
+
+
+def resample_polyline(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Points evenly spaced by arc length (at most ``spacing`` apart), ends kept."""
+    s = arc_lengths(points)
+    n = max(2, int(np.ceil(s[-1] / spacing)) + 1)
+    t = np.linspace(0.0, s[-1], n)
+    return np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
+
+
+def unit_tangents(points: np.ndarray) -> np.ndarray:
+    """Unit tangent at each point (central differences, one-sided at the ends)."""
+    d = np.gradient(points, axis=0) if len(points) > 2 else np.repeat(
+        points[1:] - points[:1], len(points), axis=0)
+    norm = np.hypot(d[:, 0], d[:, 1])
+    return d / np.where(norm > 0, norm, 1.0)[:, None]

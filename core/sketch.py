@@ -48,7 +48,8 @@ class Stroke:
 
     ``points`` is (n, 2) float64. ``width`` and ``pressure`` are optional (n,) arrays.
     ``bezier`` holds (3k + 1, 2) cubic Bezier control points when the stroke was fitted;
-    ``points`` is then its sampled polyline.
+    ``points`` is then its sampled polyline, and ``sources`` names the input strokes
+    it was made from.
     """
 
     points: np.ndarray
@@ -59,6 +60,7 @@ class Stroke:
     cluster: int | None = None
     bezier: np.ndarray | None = None
     closed: bool = False
+    sources: tuple[int, ...] = ()  # ids of the input strokes an output stroke came from
 
     def __post_init__(self) -> None:
         self.points = _as_points(self.points)

@@ -108,7 +108,8 @@ def parse_svg(data: bytes, name: str = "<svg>", tolerance: float | None = None) 
     if len(boxes) == 0:
         raise SketchError(f"{name}: no drawable paths or shapes")
     if tolerance is None:
-        span = np.hypot(boxes[:, 2].max() - boxes[:, 0].min(), boxes[:, 3].max() - boxes[:, 1].min())
+        span = np.hypot(boxes[:, 2].max() - boxes[:, 0].min(),
+                        boxes[:, 3].max() - boxes[:, 1].min())
         tolerance = RELATIVE_TOLERANCE * span if span > 0 else 1.0
     if not tolerance > 0:
         raise SketchError(f"sampling tolerance must be positive, got {tolerance}")

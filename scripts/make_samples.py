@@ -42,7 +42,7 @@ def _at(curve: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def rough_strokes(curve: np.ndarray, cluster: int, rng: np.random.Generator,
-                  wobble: float = 3.0, spacing: float = 4.0) -> list[Stroke]:
+                  wobble: float = 1.8, spacing: float = 4.0) -> list[Stroke]:
     length = float(np.hypot(*np.diff(curve, axis=0).T).sum())
     closed = np.allclose(curve[0], curve[-1])
     strokes = []

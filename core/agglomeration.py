@@ -1,0 +1,280 @@
+"""Agglomeration (paper 3.2): greedily merge the pair of primitives whose merge changes
+shape least, until the cheapest change exceeds epsilon.
+
+Three kinds of pair, each costed with the Fourier descriptor distance d:
+
+* PP, two patches sharing a curve: w = min(d(P, P u Q), d(Q, P u Q));
+* CP, a free curve touching a patch at a node: w = d(P, P u C), with P u C the patch's
+  outline with the curve walked out and back where it touches (the paper's O_p u O_l);
+  the curve is then merged away into the patch's outline;
+* CC, two free curves side by side or end to end (:mod:`core.curve_merge`):
+  w = min(d(A, M), d(B, M)) with M the merged curve.
+
+Beyond the paper, a merge must not move ink far: whatever it removes (the curves between
+two patches, a free curve, the two curves a merged one replaces) must lie within d_eps =
+alpha * D of what stays. The Fourier distance is blind to scale, so without this guard tiny
+faces would merge across real lines and erase them.
+
+The queue holds (cost, order, kind, a, b, fresh) entries. Merged primitives get new ids, so
+an entry whose primitive has gone is skipped. When a patch grows or two curves merge, the
+pairs they had are pushed again for the new primitive, keyed by their parents' cheapest
+known cost but marked stale (none if every parent pair was invalid, costed at once if no
+parent pair was ever costed); a stale entry reaching the
+top is re-costed and pushed back, and only fresh costs are merged or end the run. The run
+is deterministic and eps-independent up to its stop (the first fresh cost not below
+epsilon: so epsilon = 0 merges nothing), and the history of one run with epsilon replays,
+cut at the first cost not below epsilon2, exactly to the run with epsilon2.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+
+from .base_complex import BaseComplex
+from .complex_state import ComplexState, Merge
+from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
+from .fourier import curve_descriptors, fd_distance, fourier_descriptors
+from .geometry import lines_from, resample_polyline
+from .params import SimplifyParams
+from .patch_rings import RingGeometry, half_edges, spike_walk, union_rings
+
+INF = math.inf
+
+
+@dataclass
+class AgglomerationStats:
+    pairs_costed: dict[str, int] = field(default_factory=lambda: {"PP": 0, "CP": 0, "CC": 0})
+    merges: dict[str, int] = field(default_factory=lambda: {"PP": 0, "CP": 0, "CC": 0})
+    stale_recosts: int = 0
+
+
+class Agglomerator:
+    """Runs the agglomeration on a base complex (unit-diagonal frame)."""
+
+    def __init__(self, cx: BaseComplex, params: SimplifyParams) -> None:
+        self.params = params
+        self.d_eps = params.alpha  # D = 1 in the unit frame
+        self.state = ComplexState(cx)
+        self.geometry = RingGeometry(cx)
+        self.lines = lines_from(cx.curves) if cx.curves else np.empty(0, dtype=object)
+        self.tree = shapely.STRtree(self.lines)
+        self.rings: list[list[list[int]]] = [
+            [half_edges(p.boundary)] + [half_edges(h) for h in p.holes] for p in cx.patches]
+        self.patch_fd: dict[int, np.ndarray] = {}
+        self.curve_fd: dict[int, np.ndarray] = {}
+        self.sampled: dict[int, SampledCurve] = {}
+        self.known: dict[tuple, float] = {}
+        self.cp_partners: dict[int, set[int]] = {}
+        self.cc_partners: dict[int, set[int]] = {}
+        self.heap: list[tuple] = []
+        self.order = 0
+        self.history: list[Merge] = []
+        self.stats = AgglomerationStats()
+
+    # -- descriptors -----------------------------------------------------------------------
+    def _fds(self, rings: list[np.ndarray]) -> np.ndarray:
+        return fourier_descriptors(rings, self.params.samples)
+
+    def _patch_fd(self, p: int) -> np.ndarray:
+        if p not in self.patch_fd:
+            self.patch_fd[p] = self._fds([self.geometry.points(self.rings[p][0])])[0]
+        return self.patch_fd[p]
+
+    def _sampled(self, c: int) -> SampledCurve:
+        if c not in self.sampled:
+            self.sampled[c] = SampledCurve.of(self.state.curves[c], sample_spacing(self.d_eps))
+        return self.sampled[c]
+
+    def _curve_fd(self, c: int) -> np.ndarray:
+        if c not in self.curve_fd:
+            self.curve_fd[c] = curve_descriptors([self.state.curves[c]], self.params.samples)[0]
+        return self.curve_fd[c]
+
+    # -- the guard: nothing removed may lie farther than d_eps from what stays -------------
+    def _samples(self, curves: list[int]) -> np.ndarray:
+        return np.concatenate([resample_polyline(self.state.curves[c], self.d_eps / 2)
+                               for c in curves])
+
+    def _near(self, points: np.ndarray, allowed: set[int]) -> bool:
+        if not allowed:
+            return False
+        lo, hi = points.min(axis=0) - self.d_eps, points.max(axis=0) + self.d_eps
+        cand = [int(c) for c in self.tree.query(shapely.box(*lo, *hi))
+                if int(c) in allowed and self.state.curve_alive[int(c)]]
+        if not cand:
+            return False
+        d = shapely.distance(shapely.points(points)[:, None], self.lines[cand][None, :])
+        return bool(d.min(axis=1).max() <= self.d_eps)
+
+    # -- costs -------------------------------------------------------------------------------
+    def _cost_pp(self, p: int, q: int) -> tuple[float, list[list[int]] | None]:
+        st = self.state
+        shared = st.shared_curves(p, q)
+        if not shared:
+            return INF, None
+        allowed = (st.patch_curves[p] | st.patch_curves[q]) - set(shared)
+        if not self._near(self._samples(shared), allowed):
+            return INF, None
+        rings = union_rings(self.rings[p], self.rings[q], shared, self.geometry)
+        if not rings or self.geometry.area(rings[0]) <= 0:
+            return INF, None
+        new = self._fds([self.geometry.points(rings[0])])[0]
+        cost = min(fd_distance(self._patch_fd(p), new), fd_distance(self._patch_fd(q), new))
+        return float(cost), rings
+
+    def _cost_cp(self, c: int, p: int) -> float:
+        st = self.state
+        if not self._near(self._samples([c]), st.patch_curves[p]):
+            return INF
+        ends = {int(n) for e in st.patch_curves[p] for n in self.geometry.curve_nodes[e]}
+        nodes = sorted(st.curve_nodes[c] & ends)
+        if not nodes:
+            return INF
+        node = nodes[0]
+        anchor = st.base.nodes[node]
+        ring = self.geometry.with_spike(self.rings[p][0], node,
+                                        spike_walk(st.curves[c], anchor))
+        new = self._fds([ring])[0]
+        return float(fd_distance(self._patch_fd(p), new))
+
+    def _cost_cc(self, a: int, b: int) -> tuple[float, np.ndarray | None]:
+        st = self.state
+        how, merged = pair_and_merge(self._sampled(a), st.curve_weight[a], self._sampled(b),
+                                     st.curve_weight[b], self.d_eps, self.params.angle)
+        if how is None:
+            return INF, None
+        new = curve_descriptors([merged], self.params.samples)[0]
+        cost = min(fd_distance(self._curve_fd(a), new), fd_distance(self._curve_fd(b), new))
+        return float(cost), merged
+
+    def _cost(self, kind: str, a: int, b: int) -> float:
+        self.stats.pairs_costed[kind] += 1
+        if kind == "PP":
+            cost = self._cost_pp(a, b)[0]
+        elif kind == "CP":
+            cost = self._cost_cp(a, b)
+        else:
+            cost = self._cost_cc(a, b)[0]
+        self.known[(kind, a, b)] = cost
+        return cost
+
+    # -- the queue ---------------------------------------------------------------------------
+    def _push(self, cost: float, kind: str, a: int, b: int, fresh: bool) -> None:
+        if cost < INF:
+            heapq.heappush(self.heap, (cost, self.order, kind, a, b, fresh))
+            self.order += 1
+
+    def _offer(self, kind: str, a: int, b: int, parents: list[tuple]) -> None:
+        """Queue a pair of a new primitive with what its parents' pairs were worth.
+
+        Stale under the cheapest cost a parent pair had; not at all when every parent pair
+        was invalid (the guard refused it, or the curves did not pair); costed now when no
+        parent pair was ever costed.
+        """
+        known = [self.known[key] for key in parents if key in self.known]
+        if not known:
+            self._push(self._cost(kind, a, b), kind, a, b, True)
+        elif min(known) < INF:
+            self._push(min(known), kind, a, b, False)
+
+    def _alive(self, kind: str, a: int, b: int) -> bool:
+        st = self.state
+        if kind == "PP":
+            return st.patch_alive[a] and st.patch_alive[b]
+        if kind == "CP":
+            return st.curve_alive[a] and st.patch_alive[b]
+        return st.curve_alive[a] and st.curve_alive[b]
+
+    def _pair_cp(self, c: int, p: int) -> None:
+        self.cp_partners.setdefault(p, set()).add(c)
+
+    def _initial_pairs(self) -> None:
+        st = self.state
+        pp = sorted({(min(a, b), max(a, b)) for a, b in st.curve_sides if a != b and a >= 0
+                     and b >= 0})
+        for p, q in pp:
+            self._push(self._cost("PP", p, q), "PP", p, q, True)
+        free = [c for c in range(len(st.curves)) if st.is_free(c)]
+        for c in free:
+            for p in sorted({p for n in st.curve_nodes[c] for p in st.patches_at_node(n)}):
+                self._pair_cp(c, p)
+                self._push(self._cost("CP", c, p), "CP", c, p, True)
+        if len(free) > 1:
+            lines = self.lines[free]
+            i, j = shapely.STRtree(lines).query(lines, predicate="dwithin",
+                                                distance=self.d_eps)
+            for a, b in sorted({(free[x], free[y]) for x, y in zip(i.tolist(), j.tolist())
+                                if x < y}):
+                self.cc_partners.setdefault(a, set()).add(b)
+                self.cc_partners.setdefault(b, set()).add(a)
+                self._push(self._cost("CC", a, b), "CC", a, b, True)
+
+    def _neighbour_patches(self, r: int) -> set[int]:
+        st = self.state
+        return {s for c in st.patch_curves[r] for s in st.curve_sides[c] if s >= 0 and s != r}
+
+    def _apply(self, kind: str, a: int, b: int, cost: float) -> None:
+        st = self.state
+        if kind == "PP":
+            _, rings = self._cost_pp(a, b)
+            r = st.merge_patches(a, b)
+            self.rings.append(rings)
+            self.history.append(Merge("PP", cost, a, b, r))
+            for t in sorted(self._neighbour_patches(r)):
+                self._offer("PP", t, r, [("PP", min(x, t), max(x, t)) for x in (a, b)])
+            partners = self.cp_partners.pop(a, set()) | self.cp_partners.pop(b, set())
+            for c in sorted(x for x in partners if st.curve_alive[x]):
+                self._pair_cp(c, r)
+                self._offer("CP", c, r, [("CP", c, a), ("CP", c, b)])
+        elif kind == "CP":
+            st.remove_curve(a)
+            self.history.append(Merge("CP", cost, a, b, b))
+        else:
+            _, merged = self._cost_cc(a, b)
+            n = st.merge_curves(a, b, merged)
+            self.history.append(Merge("CC", cost, a, b, n, merged))
+            partners = (self.cc_partners.pop(a, set()) | self.cc_partners.pop(b, set())) - {a, b}
+            self.cc_partners[n] = set()
+            for c in sorted(x for x in partners if st.curve_alive[x]):
+                self.cc_partners[n].add(c)
+                self.cc_partners.setdefault(c, set()).add(n)
+                self._offer("CC", c, n, [("CC", min(x, c), max(x, c)) for x in (a, b)])
+            for p in sorted({p for node in st.curve_nodes[n] for p in st.patches_at_node(node)}):
+                self._pair_cp(n, p)
+                self._push(self._cost("CP", n, p), "CP", n, p, True)
+        self.stats.merges[kind] += 1
+
+    def _target_reached(self) -> bool:
+        tp, tc = self.params.target_patches, self.params.target_curves
+        return ((tp is not None and self.state.num_patches <= tp)
+                or (tc is not None and self.state.num_curves <= tc))
+
+    def run(self) -> list[Merge]:
+        """Merge while the cheapest fresh cost is below epsilon and no target is reached."""
+        self._initial_pairs()
+        eps = self.params.epsilon
+        while self.heap and not self._target_reached():
+            cost, _, kind, a, b, fresh = heapq.heappop(self.heap)
+            if not self._alive(kind, a, b):
+                continue
+            if not fresh:
+                self.stats.stale_recosts += 1
+                self._push(self._cost(kind, a, b), kind, a, b, True)
+                continue
+            if cost >= eps:
+                break
+            self._apply(kind, a, b, cost)
+        return self.history
+
+
+def agglomerate(cx: BaseComplex, params: SimplifyParams) -> tuple[list[Merge], ComplexState,
+                                                                  AgglomerationStats]:
+    """Run the agglomeration; returns the merge history, the final state and counters."""
+    agg = Agglomerator(cx, params)
+    history = agg.run()
+    return history, agg.state, agg.stats

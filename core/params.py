@@ -1,0 +1,68 @@
+"""Parameters of the simplification, with the paper's defaults, validated."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+from .sketch import SketchError
+
+
+@dataclass(frozen=True)
+class SimplifyParams:
+    """What controls :func:`core.simplify`. Distances are fractions of the diagonal D.
+
+    epsilon       merge while the cheapest shape change (Fourier descriptor distance) is
+                  below this: the one slider (paper: 0.01-0.03, default 0.015); 0 merges
+                  nothing
+    samples       N, boundary samples of a Fourier descriptor (paper: 256)
+    alpha         d_eps = alpha * D, the stroke bundle width: curves closer than this may
+                  merge, and nothing merged away lies farther than this from what remains
+    beta          short-edge ratio to the patch perimeter for smoothing (paper: 0.04)
+    gamma         |cos| of the angle below which two edges at a junction are taken as
+                  crossing, not continuing (paper: 0.174, i.e. 80 degrees)
+    angle         largest tangent angle, in degrees, between curves that may merge (d_theta)
+    join_angle    largest turn, in degrees, where two output edges join into one stroke
+    corner_angle  turns sharper than this, in degrees, stay corners of the fitted Beziers
+    fit_error     largest distance of a fitted Bezier from its polyline, as a fraction of D
+    target_patches, target_curves   optional: also stop once this few remain
+    """
+
+    epsilon: float = 0.015
+    samples: int = 256
+    alpha: float = 0.012
+    beta: float = 0.04
+    gamma: float = 0.174
+    angle: float = 30.0
+    join_angle: float = 40.0
+    corner_angle: float = 50.0
+    fit_error: float = 0.002
+    target_patches: int | None = None
+    target_curves: int | None = None
+
+    def __post_init__(self) -> None:
+        def check(ok: bool, message: str) -> None:
+            if not ok:
+                raise SketchError(f"bad parameter: {message}")
+
+        for name in ("epsilon", "alpha", "beta", "gamma", "angle", "join_angle",
+                     "corner_angle", "fit_error"):
+            value = getattr(self, name)
+            check(isinstance(value, (int, float)) and math.isfinite(value),
+                  f"{name} must be a finite number, got {value!r}")
+        check(self.epsilon >= 0, f"epsilon must be >= 0, got {self.epsilon}")
+        check(isinstance(self.samples, int) and self.samples >= 8 and self.samples % 2 == 0,
+              f"samples (N) must be an even integer >= 8, got {self.samples!r}")
+        check(0 < self.alpha <= 0.2, f"alpha must be in (0, 0.2], got {self.alpha}")
+        check(0 < self.beta <= 1, f"beta must be in (0, 1], got {self.beta}")
+        check(0 <= self.gamma <= 1, f"gamma must be in [0, 1], got {self.gamma}")
+        for name in ("angle", "join_angle", "corner_angle"):
+            check(0 <= getattr(self, name) <= 180, f"{name} must be 0 to 180 degrees")
+        check(0 < self.fit_error <= 0.1, f"fit_error must be in (0, 0.1], got {self.fit_error}")
+        for name in ("target_patches", "target_curves"):
+            value = getattr(self, name)
+            check(value is None or (isinstance(value, int) and value >= 0),
+                  f"{name} must be a whole number >= 0 or None, got {value!r}")
+
+    def as_dict(self) -> dict:
+        return asdict(self)

@@ -1,0 +1,107 @@
+"""Patch outlines as rings of half-edges, their union, and their points.
+
+Half-edge ``2c`` walks curve ``c`` forward, ``2c + 1`` backward; a ring lists half-edges in
+order with its face on the left. A patch has one outer ring (counter-clockwise, positive
+area) and clockwise hole rings. Two adjacent patches are united by deleting the half-edges
+of the curves they share and relinking their neighbours, exactly as in a doubly connected
+edge list; the outer ring of the union is the resulting cycle of largest area.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .base_complex import BaseComplex, Ring
+
+
+def half_edges(ring: Ring) -> list[int]:
+    return [2 * c + (0 if fwd else 1) for c, fwd in ring]
+
+
+class RingGeometry:
+    """Points and areas of half-edge rings over the base complex's curves."""
+
+    def __init__(self, cx: BaseComplex) -> None:
+        self.curves = cx.curves
+        self.curve_nodes = cx.curve_nodes
+        cross = [0.5 * float((c[:-1, 0] * c[1:, 1] - c[1:, 0] * c[:-1, 1]).sum())
+                 for c in cx.curves]
+        self.half_area = np.repeat(np.array(cross), 2) * np.tile([1.0, -1.0], len(cross))
+
+    def origin(self, h: int) -> int:
+        return int(self.curve_nodes[h >> 1, h & 1])
+
+    def area(self, ring: list[int]) -> float:
+        return float(self.half_area[ring].sum())
+
+    def points(self, ring: list[int]) -> np.ndarray:
+        """The ring's points in order, the first point not repeated at the end."""
+        parts = [self.curves[h >> 1][:-1] if h % 2 == 0 else self.curves[h >> 1][:0:-1]
+                 for h in ring]
+        return np.concatenate(parts)
+
+    def with_spike(self, ring: list[int], node: int, spike: np.ndarray) -> np.ndarray:
+        """Ring points with ``spike`` (a walk out from ``node`` and back) inserted there."""
+        parts = [self.curves[h >> 1][:-1] if h % 2 == 0 else self.curves[h >> 1][:0:-1]
+                 for h in ring]
+        at = next((i for i, h in enumerate(ring) if self.origin(h) == node), None)
+        if at is None:
+            return np.concatenate(parts)
+        return np.concatenate(parts[:at] + [spike[:-1]] + parts[at:])
+
+
+def spike_walk(points: np.ndarray, anchor: np.ndarray) -> np.ndarray:
+    """A curve walked from ``anchor`` via its nearest point to both ends and back, closed."""
+    n = len(points)
+    k = int(np.argmin(np.hypot(*(points - anchor).T)))
+    idx = np.concatenate([np.arange(k, n), np.arange(n - 2, k - 1, -1),
+                          np.arange(k - 1, -1, -1), np.arange(1, k + 1)])
+    walk = np.concatenate([anchor[None], points[idx], anchor[None]])
+    keep = np.concatenate([[True], np.hypot(*np.diff(walk, axis=0).T) > 0])
+    keep[-1] = True
+    return walk[keep]
+
+
+def union_rings(rings_p: list[list[int]], rings_q: list[list[int]], shared: list[int],
+                geometry: RingGeometry) -> list[list[int]]:
+    """Rings of the union of two patches sharing ``shared`` curves; outer ring first."""
+    succ: dict[int, int] = {}
+    for ring in rings_p + rings_q:
+        n = len(ring)
+        for i, h in enumerate(ring):
+            succ[h] = ring[(i + 1) % n]
+    pred = {v: k for k, v in succ.items()}
+    for c in shared:
+        g, t = 2 * c, 2 * c + 1
+        if g not in succ or t not in succ:
+            continue
+        pg, sg, pt, st = pred[g], succ[g], pred[t], succ[t]
+        links = []
+        if sg == t and st == g:
+            pass  # a closed curve alone between the two: nothing left to link
+        elif sg == t:
+            links.append((pg, st))
+        elif st == g:
+            links.append((pt, sg))
+        else:
+            links += [(pg, st), (pt, sg)]
+        for h in (g, t):
+            del succ[h]
+            del pred[h]
+        for x, y in links:
+            succ[x] = y
+            pred[y] = x
+    rings: list[list[int]] = []
+    seen: set[int] = set()
+    for start in succ:
+        if start in seen:
+            continue
+        ring = []
+        h = start
+        while h not in seen:
+            seen.add(h)
+            ring.append(h)
+            h = succ[h]
+        rings.append(ring)
+    rings.sort(key=geometry.area, reverse=True)
+    return rings

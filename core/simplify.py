@@ -1,0 +1,123 @@
+"""The public entry point: ``simplify(sketch, params) -> SimplifyResult``."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+
+import shapely
+
+from .agglomeration import AgglomerationStats, agglomerate
+from .attributes import NearestInk
+from .base_complex import BaseComplex, build_base_complex
+from .cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
+from .complex_state import ComplexState, Merge
+from .geometry import polygons_from
+from .params import SimplifyParams
+from .sketch import Sketch, SketchError, Stroke
+from .to_strokes import to_strokes
+
+
+@dataclass
+class SimplifyResult:
+    """Output strokes (input coordinates) and everything that led to them."""
+
+    strokes: list[Stroke]
+    params: SimplifyParams
+    complex: BaseComplex  # the initial base complex, unit frame
+    state: ComplexState  # the simplified complex: alive curves and patches
+    history: list[Merge]  # every merge applied, in order, with its cost
+    normalisation: Normalisation
+    cleaning: CleaningReport
+    counts: dict[str, dict[str, int]]
+    timings: dict[str, float]
+    stats: AgglomerationStats | None = None
+    _input: Sketch | None = field(default=None, repr=False)
+    _ink: NearestInk | None = field(default=None, repr=False)
+
+    def to_sketch(self) -> Sketch:
+        src = self._input
+        return Sketch(list(self.strokes), src.width if src else None,
+                      src.height if src else None)
+
+    def at(self, epsilon: float) -> SimplifyResult:
+        """The result ``simplify`` gives with a smaller ``epsilon``, by replaying history."""
+        if not 0 <= epsilon <= self.params.epsilon:
+            raise SketchError(f"epsilon {epsilon} is outside 0..{self.params.epsilon}, the "
+                              "range this result's merge history covers")
+        t0 = time.perf_counter()
+        state = ComplexState(self.complex)
+        tp, tc = self.params.target_patches, self.params.target_curves
+        for merge in self.history:
+            if (merge.cost >= epsilon or (tp is not None and state.num_patches <= tp)
+                    or (tc is not None and state.num_curves <= tc)):
+                break
+            state.apply(merge)
+        params = replace(self.params, epsilon=epsilon)
+        history = self.history[:state.merges_applied]
+        timings = {"replay": time.perf_counter() - t0}
+        return _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
+                       state, history, params, None, timings)
+
+    def regions(self) -> list[shapely.Polygon]:
+        """The patches left, as polygons in input coordinates (what a fill can use)."""
+        base = polygons_from([self.complex.ring_points(p.boundary)
+                              for p in self.complex.patches]) if self.complex.patches else []
+        out = []
+        for p in self.state.alive_patches():
+            poly = shapely.union_all([base[k] for k in self.state.patch_origin[p]])
+            out.append(shapely.transform(poly, self.normalisation.from_unit))
+        return out
+
+
+def _counts(nodes: int, curves: int, patches: int, strokes: int) -> dict[str, int]:
+    return {"strokes": strokes, "nodes": nodes, "curves": curves, "patches": patches}
+
+
+def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normalisation,
+            cx: BaseComplex, state: ComplexState, history: list[Merge],
+            params: SimplifyParams, stats: AgglomerationStats | None,
+            timings: dict[str, float]) -> SimplifyResult:
+    t0 = time.perf_counter()
+    fitted = to_strokes(state, params)
+    t1 = time.perf_counter()
+    strokes = []
+    for f in fitted:
+        width, pressure, style, ids = ink.transfer(f.points)
+        strokes.append(Stroke(norm.from_unit(f.points), width=width, pressure=pressure,
+                              style=style, bezier=norm.from_unit(f.bezier), closed=f.closed,
+                              sources=ids))
+    timings = {**timings, "strokes": t1 - t0, "attributes": time.perf_counter() - t1}
+    nodes_after = len({n for c in state.alive_curves() for n in state.curve_nodes[c]})
+    counts = {
+        "before": _counts(cx.num_nodes, cx.num_curves, cx.num_patches, len(sketch.strokes)),
+        "after": _counts(nodes_after, state.num_curves, state.num_patches, len(strokes)),
+    }
+    return SimplifyResult(strokes, params, cx, state, history, norm, cleaning, counts, timings,
+                          stats, sketch, ink)
+
+
+def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyResult:
+    """Simplify a rough sketch into few long smooth strokes.
+
+    Raises :class:`SketchError` for input that cannot be a sketch or bad parameters.
+    """
+    params = params if params is not None else SimplifyParams()
+    if not isinstance(params, SimplifyParams):
+        raise SketchError(f"params must be SimplifyParams, got {type(params).__name__}")
+    t0 = time.perf_counter()
+    cleaned, report = clean_sketch(sketch)
+    unit, norm = normalised_strokes(cleaned)
+    t1 = time.perf_counter()
+    cx = build_base_complex(unit)
+    t2 = time.perf_counter()
+    history, state, stats = agglomerate(cx, params)
+    t3 = time.perf_counter()
+    ink = NearestInk(cleaned.strokes, unit)
+    timings = {"clean": t1 - t0, "complex": t2 - t1, "agglomerate": t3 - t2}
+    result = _finish(cleaned, ink, report, norm, cx, state, history, params, stats, timings)
+    result.timings["total"] = time.perf_counter() - t0
+    return result
+
+
+__all__ = ["SimplifyResult", "simplify"]

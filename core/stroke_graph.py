@@ -1,0 +1,94 @@
+"""A graph of output edges: polylines whose ends meet at nodes.
+
+Ends closer than ``snap`` are one node (placed at their mean), so that curves made by
+merges, whose ends land near but not on a junction, still meet it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+
+from .geometry import arc_lengths
+
+
+@dataclass
+class Edge:
+    points: np.ndarray
+    perimeter: float = np.inf  # of the smallest patch it bounds (inf: bounds none)
+    sources: tuple[int, ...] = ()  # base curves it came from
+    free: bool = False  # bounds no patch
+    closed: bool = False  # a loop: its ends are one point
+
+
+@dataclass
+class StrokeGraph:
+    edges: list[Edge]
+    ends: np.ndarray = field(default_factory=lambda: np.empty((0, 2), np.intp))  # (E, 2)
+    nodes: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+
+    def degree(self) -> np.ndarray:
+        return np.bincount(self.ends.ravel(), minlength=len(self.nodes))
+
+    def lengths(self) -> np.ndarray:
+        return np.array([arc_lengths(e.points)[-1] for e in self.edges])
+
+
+def _clusters(points: np.ndarray, radius: float) -> np.ndarray:
+    """Label points so that any two within ``radius`` share a label (single linkage)."""
+    parent = np.arange(len(points))
+
+    def find(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    geoms = shapely.points(points)
+    i, j = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=radius)
+    for a, b in zip(i.tolist(), j.tolist()):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    roots = np.array([find(a) for a in range(len(points))])
+    return np.unique(roots, return_inverse=True)[1]
+
+
+def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:
+    """Join edge ends within ``snap`` into nodes and move the ends onto them; drop loops
+    shorter than 4 * snap that this closes."""
+    edges = [e for e in edges if len(e.points) >= 2]
+    if not edges:
+        return StrokeGraph([])
+    ends = np.array([[e.points[0], e.points[-1]] for e in edges]).reshape(-1, 2)
+    labels = _clusters(ends, snap)
+    nodes = np.zeros((labels.max() + 1, 2))
+    np.add.at(nodes, labels, ends)
+    nodes /= np.bincount(labels)[:, None]
+    for k, e in enumerate(edges):
+        pts = e.points.copy()
+        pts[0], pts[-1] = nodes[labels[2 * k]], nodes[labels[2 * k + 1]]
+        e.points = pts
+    graph = StrokeGraph(edges, labels.reshape(-1, 2), nodes)
+    # a short edge whose ends snapped together is a crumb between two near crossings
+    crumb = (graph.ends[:, 0] == graph.ends[:, 1]) & (graph.lengths() < 4 * snap)
+    return rebuild(graph, ~crumb) if crumb.any() else graph
+
+
+def rebuild(graph: StrokeGraph, keep: np.ndarray) -> StrokeGraph:
+    """The graph with only the edges where ``keep`` is True, nodes renumbered."""
+    edges = [e for e, k in zip(graph.edges, keep) if k]
+    ends = graph.ends[keep]
+    used, inverse = np.unique(ends.ravel(), return_inverse=True)
+    return StrokeGraph(edges, inverse.reshape(-1, 2), graph.nodes[used])
+
+
+def end_direction(points: np.ndarray, reach: float) -> np.ndarray:
+    """Unit direction leaving the polyline's first point, looking ``reach`` along it."""
+    s = arc_lengths(points)
+    k = int(np.clip(np.searchsorted(s, reach), 1, len(points) - 1))
+    d = points[k] - points[0]
+    n = np.hypot(*d)
+    return d / n if n > 0 else d

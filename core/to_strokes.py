@@ -1,0 +1,291 @@
+"""From a simplified complex back to strokes (paper 3.3).
+
+1. The linework: every curve still alive, free or on a patch outline, once.
+2. Bi-edges: curves that still run side by side (the two long sides of a slender border
+   patch, or a free curve along an outline) are merged by the curve-curve operator again,
+   while the merge costs less than epsilon.
+3. A graph of the edges, split where merged curves cross; spurs shorter than 3 d_eps hanging
+   off a junction (overshoots past a corner or a crossing) are trimmed.
+4. Smoothing: an edge shorter than d_eps between two junctions (and shorter than beta times
+   the perimeter of the patch it bounds) is contracted to a point. This settles both of the
+   paper's cases: a zigzag step becomes a node where its neighbours continue each other, and
+   the short link of a confused junction merges two junctions into one crossing.
+5. Joining: edges continue through nodes of degree 2, and through a junction pairwise where
+   they continue each other best, turning less than ``join_angle``. The paper's test
+   ``|t1 . t2| < gamma`` (gamma = cos 80 degrees) reads as "nearly perpendicular": such ends
+   cross rather than continue, and never join whatever ``join_angle`` allows.
+6. Each stroke is fitted with piecewise cubic Beziers, corners kept.
+"""
+
+from __future__ import annotations
+
+import heapq
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from .bezier import fit_bezier, sample
+from .complex_state import ComplexState
+from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
+from .fourier import curve_descriptors, fd_distance
+from .geometry import arc_lengths, lines_from, split_coordinates
+from .noding import GRID
+from .params import SimplifyParams
+from .stroke_graph import Edge, StrokeGraph, build_graph, end_direction, rebuild
+
+
+@dataclass
+class FittedStroke:
+    """One output stroke in the unit frame."""
+
+    points: np.ndarray  # sampled polyline of the Bezier
+    bezier: np.ndarray  # (3k + 1, 2) control points
+    closed: bool
+    sources: tuple[int, ...]  # base curves it came from
+
+
+def linework(state: ComplexState) -> list[Edge]:
+    """The alive curves, each with the perimeter of the smallest patch it bounds."""
+    lengths = [arc_lengths(c)[-1] for c in state.curves]
+    perim = {p: sum(lengths[c] for c in state.patch_curves[p]) for p in state.alive_patches()}
+    edges = []
+    for c in state.alive_curves():
+        free = state.is_free(c)
+        sides = [perim[p] for p in state.curve_sides[c] if p >= 0 and not free]
+        edges.append(Edge(state.curves[c], min(sides, default=np.inf), state.curve_origin[c],
+                          free))
+    return edges
+
+
+def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
+    """The second curve-curve pass: merge side-by-side edges while it costs < epsilon.
+
+    Pairs of two free curves are left out: agglomeration has already judged them.
+    """
+    d_eps = params.alpha
+    pts = [e.points for e in edges]
+    sampled = [SampledCurve.of(p, sample_spacing(d_eps)) for p in pts]
+    weights = [1.0] * len(pts)
+    alive = [True] * len(pts)
+    free = [e.free for e in edges]
+    sources = [e.sources for e in edges]
+    fds = list(curve_descriptors(pts, params.samples)) if pts else []
+    lines = lines_from(pts)
+    i, j = shapely.STRtree(lines).query(lines, predicate="dwithin", distance=d_eps)
+    partners: dict[int, set[int]] = {}
+    heap: list[tuple] = []
+    order = 0
+    known: dict[tuple[int, int], float] = {}
+
+    def cost_of(a: int, b: int) -> tuple[float, np.ndarray | None]:
+        if free[a] and free[b]:
+            return np.inf, None
+        how, merged = pair_and_merge(sampled[a], weights[a], sampled[b], weights[b], d_eps,
+                                     params.angle, sides_only=True)
+        if how is None:
+            return np.inf, None
+        fd = curve_descriptors([merged], params.samples)[0]
+        return float(min(fd_distance(fds[a], fd), fd_distance(fds[b], fd))), merged
+
+    def offer(a: int, b: int, old: float = np.inf) -> None:
+        """Queue a pair (a < b): stale under a known cost, else costed now."""
+        nonlocal order
+        if old < np.inf:
+            heapq.heappush(heap, (old, order, a, b, False))
+        else:
+            cost, _ = cost_of(a, b)
+            known[(a, b)] = cost
+            if cost < params.epsilon:
+                heapq.heappush(heap, (cost, order, a, b, True))
+        order += 1
+
+    for a, b in sorted({(x, y) for x, y in zip(i.tolist(), j.tolist()) if x < y}):
+        partners.setdefault(a, set()).add(b)
+        partners.setdefault(b, set()).add(a)
+        offer(a, b)
+    while heap:
+        cost, _, a, b, fresh = heapq.heappop(heap)
+        if not (alive[a] and alive[b]):
+            continue
+        if not fresh:
+            offer(a, b)
+            continue
+        if cost >= params.epsilon:
+            break
+        _, merged = cost_of(a, b)
+        n = len(pts)
+        pts.append(merged)
+        sampled.append(SampledCurve.of(merged, sample_spacing(d_eps)))
+        weights.append(weights[a] + weights[b])
+        sources.append(sources[a] + sources[b])
+        fds.append(curve_descriptors([merged], params.samples)[0])
+        free.append(False)
+        alive[a] = alive[b] = False
+        alive.append(True)
+        near = (partners.pop(a, set()) | partners.pop(b, set())) - {a, b}
+        partners[n] = set()
+        for c in sorted(x for x in near if alive[x]):
+            partners[n].add(c)
+            partners.setdefault(c, set()).add(n)
+            offer(c, n, min(known.get((min(a, c), max(a, c)), np.inf),
+                            known.get((min(b, c), max(b, c)), np.inf)))
+    perim = {k: e.perimeter for k, e in enumerate(edges)}
+    return [Edge(pts[k], perim.get(k, np.inf), sources[k]) for k in range(len(pts)) if alive[k]]
+
+
+def renode(edges: list[Edge]) -> list[Edge]:
+    """Split edges where they cross: merged curves are drawn anew and cross without nodes.
+
+    Each piece keeps the perimeter and sources of the edge it lies on.
+    """
+    if not edges:
+        return edges
+    lines = lines_from([e.points for e in edges])
+    pieces = shapely.get_parts(shapely.line_merge(shapely.unary_union(lines, grid_size=GRID)))
+    pieces = pieces[(shapely.get_type_id(pieces) == 1) & (shapely.length(pieces) > 0)]
+    mids = shapely.line_interpolate_point(pieces, 0.5, normalized=True)
+    owner = shapely.STRtree(lines).query_nearest(mids, all_matches=False)[1]
+    return [Edge(pts, edges[k].perimeter, edges[k].sources, edges[k].free)
+            for pts, k in zip(split_coordinates(pieces), owner.tolist())]
+
+
+#: spurs up to this many d_eps long are trimmed: overshoots past a corner or a crossing
+SPUR_LENGTH = 3.0
+
+
+def trim_spurs(graph: StrokeGraph, d_eps: float) -> StrokeGraph:
+    """Drop short edges (overshoots) that hang off a junction by one free end."""
+    for _ in range(2):
+        if not graph.edges:
+            return graph
+        deg = graph.degree()
+        lengths = graph.lengths()
+        da, db = deg[graph.ends[:, 0]], deg[graph.ends[:, 1]]
+        spur = (lengths < SPUR_LENGTH * d_eps) & (((da == 1) & (db >= 3))
+                                                  | ((db == 1) & (da >= 3)))
+        if not spur.any():
+            break
+        graph = rebuild(graph, ~spur)
+    return graph
+
+
+def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> StrokeGraph:
+    """Contract short edges between junctions to a point (zigzags, confused junctions)."""
+    if not graph.edges:
+        return graph
+    deg = graph.degree()
+    lengths = graph.lengths()
+    perim = np.array([e.perimeter for e in graph.edges])
+    a, b = graph.ends[:, 0], graph.ends[:, 1]
+    short = ((lengths < d_eps) & (lengths < beta * perim) & (deg[a] >= 3) & (deg[b] >= 3)
+             & (a != b))
+    if not short.any():
+        return graph
+    parent = np.arange(len(graph.nodes))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for k in np.flatnonzero(short).tolist():
+        ra, rb = find(int(a[k])), find(int(b[k]))
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    root = np.array([find(x) for x in range(len(graph.nodes))])
+    centre = np.zeros_like(graph.nodes)
+    np.add.at(centre, root, graph.nodes)
+    centre /= np.maximum(np.bincount(root, minlength=len(root)), 1)[:, None]
+    ends = root[graph.ends]
+    keep = ~short | (ends[:, 0] != ends[:, 1])
+    for k, e in enumerate(graph.edges):
+        pts = e.points.copy()
+        pts[0], pts[-1] = centre[ends[k, 0]], centre[ends[k, 1]]
+        e.points = pts
+    graph.ends = ends
+    graph.nodes = centre
+    return rebuild(graph, keep & ~(short & (ends[:, 0] == ends[:, 1])))
+
+
+def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True
+               ) -> list[Edge]:
+    """Chain edges through degree-2 nodes and, if asked, smooth junction crossings."""
+    n_edges = len(graph.edges)
+    reach = 2 * params.alpha
+    link = np.full(2 * n_edges, -1)  # end 2k (start of edge k) / 2k+1 (its end) -> partner
+    cos_join = np.cos(np.radians(params.join_angle))
+    by_node: dict[int, list[int]] = {}
+    for k in range(n_edges):
+        for side in (0, 1):
+            by_node.setdefault(int(graph.ends[k, side]), []).append(2 * k + side)
+    for _node, ends in sorted(by_node.items()):
+        if len(ends) < 2 or (len(ends) > 2 and not at_junctions):
+            continue
+        dirs = [end_direction(graph.edges[e >> 1].points[:: 1 if e % 2 == 0 else -1], reach)
+                for e in ends]
+        if len(ends) == 2:
+            if ends[0] >> 1 != ends[1] >> 1:
+                link[ends[0]], link[ends[1]] = ends[1], ends[0]
+            continue
+        # continuing straight: leaving directions opposite, cos = -(d1 . d2) close to 1
+        pairs = sorted(((-(dirs[x] @ dirs[y]), x, y) for x in range(len(ends))
+                        for y in range(x + 1, len(ends))), reverse=True)
+        used: set[int] = set()
+        for cos, x, y in pairs:
+            if (cos < cos_join or abs(cos) < params.gamma or x in used or y in used
+                    or ends[x] >> 1 == ends[y] >> 1):
+                continue
+            used.update((x, y))
+            link[ends[x]], link[ends[y]] = ends[y], ends[x]
+    strokes = []
+    done = np.zeros(n_edges, dtype=bool)
+
+    def walk(start_end: int) -> Edge:
+        parts, sources, perimeter, free = [], [], np.inf, True
+        e = start_end  # we enter edge e >> 1 at end e and leave at the other end
+        closed = False
+        while True:
+            k = e >> 1
+            done[k] = True
+            pts = graph.edges[k].points
+            parts.append(pts if e % 2 == 0 else pts[::-1])
+            sources.extend(graph.edges[k].sources)
+            perimeter = min(perimeter, graph.edges[k].perimeter)
+            free = free and graph.edges[k].free
+            nxt = link[e ^ 1]
+            if nxt < 0:
+                break
+            if done[nxt >> 1]:
+                closed = nxt == start_end
+                break
+            e = nxt
+        pts = np.concatenate([parts[0]] + [p[1:] for p in parts[1:]])
+        return Edge(pts, perimeter, tuple(sorted(set(sources))), free, closed)
+
+    for k in range(n_edges):  # open chains first: start where no link enters
+        for side in (0, 1):
+            if not done[k] and link[2 * k + side] < 0:
+                strokes.append(walk(2 * k + side))
+    for k in range(n_edges):  # what is left are closed loops
+        if not done[k]:
+            strokes.append(walk(2 * k))
+    return strokes
+
+
+def to_strokes(state: ComplexState, params: SimplifyParams) -> list[FittedStroke]:
+    """Output strokes (unit frame) of a simplified complex."""
+    d_eps = params.alpha
+    snap = d_eps / 2
+    graph = build_graph(renode(merge_bi_edges(linework(state), params)), snap)
+    graph = trim_spurs(graph, d_eps)
+    graph = contract_short_edges(graph, d_eps, params.beta)
+    out = []
+    for stroke in join_edges(graph, params):
+        if arc_lengths(stroke.points)[-1] <= 0:
+            continue
+        bez = fit_bezier(stroke.points, params.fit_error, params.corner_angle,
+                         closed=stroke.closed)
+        out.append(FittedStroke(sample(bez, 12), bez, stroke.closed, stroke.sources))
+    return out

@@ -1,0 +1,143 @@
+"""Benchmark: simplify every real sketch in ../shared/data and score the result.
+
+    python scripts/bench_simplify.py [--data DIR] [--only PATTERN] [--limit N] [--epsilon E]
+
+Per sketch: strokes in and out, output strokes per intended curve (distinct cluster ids,
+or reference curves for lift3d_opensketch), coverage of the input ink within 1% of the
+canvas diagonal, mean distance of the output to the ink (px), F-score against the
+``full_fit.scap`` reference at 1% of the diagonal, and seconds. Then the medians, and time
+against size on synthetic sketches of 100, 1,000 and 10,000 strokes with the fitted
+growth exponent.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "scripts"))
+
+from bench_complex import rough_files, sketch_name  # noqa: E402
+
+from core import read_sketch  # noqa: E402
+from core.metrics import coverage, fidelity, precision_recall_f  # noqa: E402
+from core.params import SimplifyParams  # noqa: E402
+from core.simplify import simplify  # noqa: E402
+
+
+def intended_curves(path: Path, sketch) -> tuple[int, list[np.ndarray] | None]:
+    ref = path.with_name("full_fit.scap")
+    if path.name == "full_cluster.scap" and ref.exists():
+        reference = [s.points for s in read_sketch(ref).strokes]
+        return len(reference), reference
+    return len({s.cluster for s in sketch.strokes}), None
+
+
+def score(path: Path, params: SimplifyParams) -> dict:
+    sketch = read_sketch(path)
+    t0 = time.perf_counter()
+    result = simplify(sketch, params)
+    seconds = time.perf_counter() - t0
+    n_intended, reference = intended_curves(path, sketch)
+    diag = float(np.hypot(sketch.width or 0, sketch.height or 0)) or result.normalisation.scale
+    tol = 0.01 * diag
+    ink = [s.points for s in result._input.strokes]
+    out = [s.points for s in result.strokes]
+    row = {
+        "strokes_in": len(sketch.strokes), "strokes_out": len(out),
+        "intended": n_intended, "per_intended": len(out) / max(n_intended, 1),
+        "coverage": coverage(ink, out, tol), "fidelity_px": fidelity(out, ink),
+        "seconds": seconds, "patches": result.counts["before"]["patches"],
+    }
+    if reference is not None:
+        row["f_score"] = precision_recall_f(out, reference, tol)[2]
+    return row
+
+
+def synthetic(n_strokes: int, seed: int = 0) -> list[np.ndarray]:
+    """Rough bundles of 3 strokes along random short curves on a canvas growing with n."""
+    rng = np.random.default_rng(seed)
+    side = 100.0 * np.sqrt(n_strokes)
+    out = []
+    for _ in range(n_strokes // 3):
+        c = rng.uniform(0, side, 2)
+        d = rng.normal(size=2)
+        d /= np.hypot(*d)
+        bend = rng.normal(0, 0.3)
+        t = np.linspace(-40, 40, 20)
+        base = c + np.outer(t, d) + np.outer(bend * t**2 / 80, [-d[1], d[0]])
+        for _ in range(3):
+            out.append(base + rng.normal(0, 1.0, 2) + rng.normal(0, 0.3, base.shape))
+    return out
+
+
+def scaling(sizes: list[int]) -> None:
+    from core import Sketch, Stroke
+    times = []
+    for n in sizes:
+        sketch = Sketch([Stroke(p) for p in synthetic(n)])
+        t0 = time.perf_counter()
+        simplify(sketch)
+        times.append(time.perf_counter() - t0)
+        print(f"  synthetic {n:6d} strokes: {times[-1]:7.2f} s")
+    slope = np.polyfit(np.log(sizes), np.log(times), 1)[0]
+    print(f"  growth exponent {slope:.2f} (aim: at most 1.3)")
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    ap.add_argument("--only", default="", help="substring of the sketch names to run")
+    ap.add_argument("--limit", type=int, default=0)
+    ap.add_argument("--epsilon", type=float, default=SimplifyParams().epsilon)
+    ap.add_argument("--json", type=Path, help="write the rows as JSON here")
+    ap.add_argument("--scaling", default="100,1000,10000",
+                    help="synthetic sizes for the time-against-size fit ('' to skip)")
+    args = ap.parse_args()
+    params = SimplifyParams(epsilon=args.epsilon)
+    files = rough_files(args.data) if args.data.is_dir() else []
+    files = [f for f in files if args.only in sketch_name(f, args.data)]
+    if args.limit:
+        files = files[:args.limit]
+    if not files:
+        print(f"no sketches found under {args.data}: skipping the real-sketch benchmark")
+    rows = {}
+    head = f"{'sketch':44s} {'in':>5s} {'out':>5s} {'int':>5s} {'out/int':>7s} {'cover':>6s} " \
+           f"{'fid px':>6s} {'F':>5s} {'s':>6s}"
+    if files:
+        print(head)
+    for path in files:
+        name = sketch_name(path, args.data)
+        row = score(path, params)
+        rows[name] = row
+        f = f"{row['f_score']:.3f}" if "f_score" in row else "  -  "
+        print(f"{name[:44]:44s} {row['strokes_in']:5d} {row['strokes_out']:5d} "
+              f"{row['intended']:5d} {row['per_intended']:7.2f} {row['coverage']:6.3f} "
+              f"{row['fidelity_px']:6.2f} {f:>5s} {row['seconds']:6.2f}", flush=True)
+    if rows:
+        def med(key):
+            vals = [r[key] for r in rows.values() if key in r]
+            return float(np.median(vals)) if vals else float("nan")
+        print(f"\nmedians over {len(rows)} sketches: out/intended {med('per_intended'):.2f} "
+              f"(input {np.median([r['strokes_in'] / r['intended'] for r in rows.values()]):.2f}), "
+              f"coverage {med('coverage'):.3f}, fidelity {med('fidelity_px'):.2f} px, "
+              f"F {med('f_score'):.3f}, seconds {med('seconds'):.2f} "
+              f"(largest {max(r['seconds'] for r in rows.values()):.2f})")
+        print(f"worst coverage {min(r['coverage'] for r in rows.values()):.3f}")
+    if args.json:
+        args.json.write_text(json.dumps(rows, indent=1))
+    if args.scaling:
+        print("\ntime against size:")
+        scaling([int(s) for s in args.scaling.split(",")])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,226 @@
+"""core.simplify end to end: known answers, the epsilon slider, determinism, the CLI."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import shapely
+from helpers import ROOT, SAMPLES, require_data
+from test_base_complex import overshooting_side, short_crossing
+
+from core import Sketch, SketchError, Stroke, read_sketch, simplify
+from core.geometry import lines_from
+from core.metrics import coverage, fidelity
+from core.params import SimplifyParams
+
+
+def wobbly(a, b, offset, n=40, amplitude=0.0, phase=0.0):
+    """A straight stroke from a to b shifted sideways by ``offset`` with a gentle wave."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    t = np.linspace(0, 1, n)
+    d = (b - a) / np.linalg.norm(b - a)
+    normal = np.array([-d[1], d[0]])
+    wave = offset + amplitude * np.sin(2 * np.pi * t + phase)
+    return a + np.outer(t, b - a) + np.outer(wave, normal)
+
+
+def max_distance_to(points, polylines):
+    return shapely.distance(shapely.points(points), shapely.union_all(lines_from(polylines))).max()
+
+
+def test_two_nearly_coincident_strokes_become_one_between_them():
+    sketch = Sketch([Stroke(wobbly((0, 0), (100, 0), 0.0)), Stroke(wobbly((2, 0), (98, 0), 0.8))])
+    result = simplify(sketch)
+    assert len(result.strokes) == 1
+    pts = result.strokes[0].points
+    assert 0.1 < np.median(pts[:, 1]) < 0.7  # between y = 0 and y = 0.8, not on either
+    assert pts[:, 0].min() < 3 and pts[:, 0].max() > 97  # spans both
+    assert result.strokes[0].bezier is not None
+
+
+def rough_square(per_side: int, rng: np.random.Generator):
+    corners = np.array([(0, 0), (100, 0), (100, 100), (0, 100)], float)
+    strokes = []
+    for i in range(4):
+        a, b = corners[i], corners[(i + 1) % 4]
+        d = (b - a) / 100
+        for k in range(per_side):
+            start = a - d * rng.uniform(1, 4)
+            end = b + d * rng.uniform(1, 4)
+            strokes.append(Stroke(wobbly(start, end, rng.uniform(-0.8, 0.8), amplitude=0.3,
+                                         phase=k)))
+    return Sketch(strokes)
+
+
+@pytest.mark.parametrize("per_side", [2, 3])
+def test_rough_square_becomes_four_sides_with_sharp_corners(per_side):
+    sketch = rough_square(per_side, np.random.default_rng(per_side))
+    result = simplify(sketch)
+    assert 1 <= len(result.strokes) <= 4
+    out = [s.points for s in result.strokes]
+    square = [np.array([(0, 0), (100, 0), (100, 100), (0, 100), (0, 0)], float)]
+    assert max_distance_to(np.concatenate(out), square) < 2.5
+    assert coverage(square, out, tol=2.0) > 0.97
+    # each corner is a sharp joint: an end or Bezier knot lies on it, not a rounded arc
+    knots = np.concatenate([s.bezier[::3] for s in result.strokes])
+    for corner in square[0][:4]:
+        assert np.hypot(*(knots - corner).T).min() < 2.5, corner
+
+
+def test_paper_triangle_becomes_three_sides():
+    a, b, c = np.array([0, 0.0]), np.array([100, 0.0]), np.array([50, 80.0])
+    x = np.linspace(20, 45, 30)
+    arc = np.stack([x, 1 - 3 * (1 - ((x - 32.5) / 12.5) ** 2)], axis=1)
+    strokes = [overshooting_side(a, b, 4), overshooting_side(b, c, 4), overshooting_side(c, a, 4),
+               short_crossing((b + c) / 2, c - b, 20, 3), short_crossing((c + a) / 2, a - c, 20, 3),
+               short_crossing(np.array([75, 0.0]), b - a, 20, 2), arc]
+    result = simplify(Sketch([Stroke(s) for s in strokes]))
+    assert 1 <= len(result.strokes) <= 3
+    out = [s.points for s in result.strokes]
+    triangle = [np.array([a, b, c, a])]
+    assert coverage(triangle, out, tol=2.0) > 0.97
+    assert max_distance_to(np.concatenate(out), triangle) < 3.0
+
+
+def test_epsilon_zero_merges_nothing():
+    sketch = read_sketch(SAMPLES / "house.scap")
+    result = simplify(sketch, SimplifyParams(epsilon=0.0))
+    assert result.history == []
+    assert result.counts["after"]["curves"] == result.counts["before"]["curves"]
+    assert result.counts["after"]["patches"] == result.counts["before"]["patches"]
+    ink = [s.points for s in sketch.strokes]
+    assert coverage(ink, [s.points for s in result.strokes], tol=1.0) > 0.99
+
+
+def test_raising_epsilon_never_increases_the_primitives():
+    sketch = read_sketch(SAMPLES / "cup.scap")
+    counts = []
+    for eps in (0.0, 0.005, 0.01, 0.015, 0.03, 0.06):
+        r = simplify(sketch, SimplifyParams(epsilon=eps))
+        counts.append(r.state.num_curves + r.state.num_patches)
+    assert counts == sorted(counts, reverse=True), counts
+    assert counts[-1] < counts[0]
+
+
+@pytest.mark.parametrize("sample", ["house", "cup", "fish"])
+def test_result_at_equals_a_fresh_run(sample):
+    sketch = read_sketch(SAMPLES / f"{sample}.scap")
+    full = simplify(sketch, SimplifyParams(epsilon=0.05))
+    for eps in (0.002, 0.008, 0.015):
+        replayed, fresh = full.at(eps), simplify(sketch, SimplifyParams(epsilon=eps))
+        assert [m.cost for m in replayed.history] == [m.cost for m in fresh.history]
+        assert len(replayed.strokes) == len(fresh.strokes)
+        for x, y in zip(replayed.strokes, fresh.strokes):
+            np.testing.assert_array_equal(x.bezier, y.bezier)
+    with pytest.raises(SketchError, match="outside"):
+        full.at(0.5)
+
+
+def test_deterministic():
+    sketch = read_sketch(SAMPLES / "fish.scap")
+    a, b = simplify(sketch), simplify(sketch)
+    assert [m.cost for m in a.history] == [m.cost for m in b.history]
+    for x, y in zip(a.strokes, b.strokes, strict=True):
+        np.testing.assert_array_equal(x.points, y.points)
+
+
+def test_samples_get_simpler_and_stay_on_the_ink():
+    for name in ("house", "cup", "fish"):
+        sketch = read_sketch(SAMPLES / f"{name}.scap")
+        result = simplify(sketch)
+        ink = [s.points for s in sketch.strokes]
+        out = [s.points for s in result.strokes]
+        intended = len({s.cluster for s in sketch.strokes})
+        assert len(out) < len(ink), name
+        assert len(out) <= 2.5 * intended, name
+        assert coverage(ink, out, tol=0.01 * 566) > 0.95, name
+        assert fidelity(out, ink) < 2.0, name
+
+
+def test_attributes_and_sources_are_carried_over():
+    sketch = Sketch([Stroke(wobbly((0, 0), (100, 0), 0.0), width=3.0, style="#ff0000",
+                            source_id=7),
+                     Stroke(wobbly((2, 0), (98, 0), 0.8), width=3.0, style="#ff0000",
+                            source_id=8)])
+    out = simplify(sketch).strokes[0]
+    np.testing.assert_allclose(out.width, 3.0)
+    assert out.style == "#ff0000"
+    assert set(out.sources) <= {7, 8} and out.sources
+
+
+def test_result_reports_counts_timings_and_regions():
+    result = simplify(read_sketch(SAMPLES / "house.scap"))
+    assert set(result.counts) == {"before", "after"}
+    assert result.counts["before"]["strokes"] == 18
+    assert result.counts["after"]["strokes"] == len(result.strokes)
+    for stage in ("clean", "complex", "agglomerate", "strokes", "total"):
+        assert result.timings[stage] >= 0
+    regions = result.regions()
+    assert len(regions) == result.state.num_patches
+    assert all(r.area > 0 for r in regions)
+
+
+@pytest.mark.parametrize("params", [dict(epsilon=-0.1), dict(samples=4), dict(samples=7),
+                                    dict(alpha=0), dict(epsilon=float("nan")),
+                                    dict(target_patches=-1)])
+def test_bad_parameters_are_clear_errors(params):
+    with pytest.raises(SketchError, match="bad parameter"):
+        SimplifyParams(**params)
+
+
+def test_targets_stop_early():
+    sketch = read_sketch(SAMPLES / "fish.scap")
+    free = simplify(sketch, SimplifyParams(epsilon=0.05))
+    target = free.counts["before"]["patches"] - 2
+    capped = simplify(sketch, SimplifyParams(epsilon=0.05, target_patches=target))
+    assert capped.state.num_patches == target
+    assert len(capped.history) < len(free.history)
+
+
+def test_command_line(tmp_path):
+    out, stats = tmp_path / "house.svg", tmp_path / "stats.json"
+    run = subprocess.run([sys.executable, "-m", "core", str(SAMPLES / "house.scap"), "-o",
+                          str(out), "--epsilon", "0.02", "--stats", str(stats)],
+                         cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    info = json.loads(stats.read_text())
+    assert info["params"]["epsilon"] == 0.02
+    assert out.read_text().count("<path") == info["counts"]["after"]["strokes"]
+    again = read_sketch(out)
+    assert len(again.strokes) == info["counts"]["after"]["strokes"]
+    src = read_sketch(SAMPLES / "house.scap")
+    assert coverage([s.points for s in src.strokes], [s.points for s in again.strokes],
+                    tol=6.0) > 0.95  # written in the input's coordinates
+
+
+@pytest.mark.parametrize("args", [["missing.scap", "-o", "x.svg"],
+                                  ["SAMPLE", "-o", "x.svg", "--epsilon", "-1"],
+                                  ["SAMPLE", "-o", "x.png"]])
+def test_command_line_errors(tmp_path, args):
+    args = [str(SAMPLES / "house.scap") if a == "SAMPLE" else str(tmp_path / a)
+            if a.endswith((".scap", ".svg", ".png")) else a for a in args]
+    run = subprocess.run([sys.executable, "-m", "core", *args], cwd=ROOT, capture_output=True,
+                         text=True)
+    assert run.returncode == 1
+    assert run.stderr.count("\n") == 1 and run.stderr.startswith("python -m core:")
+    assert not (tmp_path / "x.svg").exists()
+
+
+@pytest.mark.data
+def test_real_sketches_get_simpler_and_keep_their_ink():
+    files = require_data()
+    picked = [f for f in files if any(k in str(f) for k in ("Bunny02", "fish_label",
+                                                            "Professional2/house"))]
+    assert picked
+    for path in picked:
+        sketch = read_sketch(path)
+        result = simplify(sketch)
+        ink = [s.points for s in sketch.strokes]
+        out = [s.points for s in result.strokes]
+        diag = float(np.hypot(sketch.width, sketch.height))
+        assert len(out) < 0.7 * len(ink), path
+        assert coverage(ink, out, 0.01 * diag) > 0.97, path
