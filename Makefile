@@ -9,7 +9,7 @@ STAMP := $(VENV)/.installed
 help:
 	@echo "make demo       set up, then simplify a bundled sample sketch into out/"
 	@echo "make test       set up, then run the whole test suite"
-	@echo "make benchmark  base-complex timings over ../shared/data"
+	@echo "make benchmark  timings and quality scores over ../shared/data"
 	@echo "make lint       ruff"
 
 $(STAMP): pyproject.toml
@@ -32,6 +32,7 @@ demo: $(STAMP)
 
 benchmark: $(STAMP)
 	$(PY) scripts/bench_complex.py
+	$(PY) scripts/bench_simplify.py
 
 clean:
 	rm -rf $(VENV) dist out reports .pytest_cache .hypothesis

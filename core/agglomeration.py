@@ -44,6 +44,8 @@ from .params import SimplifyParams
 from .patch_rings import RingGeometry, half_edges, spike_walk, union_rings
 
 INF = math.inf
+#: stale patch-patch pairs are keyed by this fraction of their parents' cheapest cost
+PP_ESTIMATE = 0.5
 
 
 @dataclass
@@ -68,6 +70,7 @@ class Agglomerator:
         self.patch_fd: dict[int, np.ndarray] = {}
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
+        self.guard_samples: dict[int, np.ndarray] = {}
         self.known: dict[tuple, float] = {}
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
@@ -97,15 +100,16 @@ class Agglomerator:
 
     # -- the guard: nothing removed may lie farther than d_eps from what stays -------------
     def _samples(self, curves: list[int]) -> np.ndarray:
-        return np.concatenate([resample_polyline(self.state.curves[c], self.d_eps / 2)
-                               for c in curves])
+        for c in curves:
+            if c not in self.guard_samples:
+                self.guard_samples[c] = resample_polyline(self.state.curves[c], self.d_eps / 2)
+        return np.concatenate([self.guard_samples[c] for c in curves])
 
     def _near(self, points: np.ndarray, allowed: set[int]) -> bool:
         if not allowed:
             return False
         lo, hi = points.min(axis=0) - self.d_eps, points.max(axis=0) + self.d_eps
-        cand = [int(c) for c in self.tree.query(shapely.box(*lo, *hi))
-                if int(c) in allowed and self.state.curve_alive[int(c)]]
+        cand = [c for c in self.tree.query(shapely.box(*lo, *hi)).tolist() if c in allowed]
         if not cand:
             return False
         d = shapely.distance(shapely.points(points)[:, None], self.lines[cand][None, :])
@@ -172,15 +176,21 @@ class Agglomerator:
     def _offer(self, kind: str, a: int, b: int, parents: list[tuple]) -> None:
         """Queue a pair of a new primitive with what its parents' pairs were worth.
 
-        Stale under the cheapest cost a parent pair had; not at all when every parent pair
-        was invalid (the guard refused it, or the curves did not pair); costed now when no
-        parent pair was ever costed.
+        Stale under the cheapest cost a parent pair had. Costed now when no parent pair was
+        ever costed, or when every parent pair of two patches was refused (the grown patch
+        may pass the guard); left out when every parent pair of a curve was refused.
         """
         known = [self.known[key] for key in parents if key in self.known]
-        if not known:
+        if not known or (kind == "PP" and min(known) == INF):
+            # a grown patch may pass the guard where its parts did not: look again
             self._push(self._cost(kind, a, b), kind, a, b, True)
-        elif min(known) < INF:
-            self._push(min(known), kind, a, b, False)
+            return
+        # a patch that grew may unite more cheaply with a neighbour than its parts did:
+        # halve the estimate, so that such pairs surface and are re-costed in time
+        estimate = min(known) * (PP_ESTIMATE if kind == "PP" else 1.0)
+        self.known[(kind, a, b)] = estimate  # what this pair's own children will inherit
+        if estimate < INF:
+            self._push(estimate, kind, a, b, False)
 
     def _alive(self, kind: str, a: int, b: int) -> bool:
         st = self.state

@@ -13,12 +13,12 @@ Each half-edge has its face on the left; bounded faces run counter-clockwise.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
-from .geometry import polygons_from, polyline_length
+from .geometry import polygons_from
 from .noding import GRID, node_strokes
 
 #: a ring of a face: (curve id, True if walked from its first point to its last)
@@ -57,7 +57,6 @@ class BaseComplex:
     num_components: int
     build_seconds: float = 0.0
     grid: float = GRID
-    _lengths: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def num_nodes(self) -> int:
@@ -70,12 +69,6 @@ class BaseComplex:
     @property
     def num_patches(self) -> int:
         return len(self.patches)
-
-    @property
-    def curve_lengths(self) -> np.ndarray:
-        if self._lengths is None:
-            self._lengths = np.array([polyline_length(c) for c in self.curves])
-        return self._lengths
 
     def patches_of_curve(self, curve: int) -> list[int]:
         """The 0, 1 or 2 distinct patches a curve borders (a spike inside a patch: one)."""

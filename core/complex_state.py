@@ -45,7 +45,6 @@ class ComplexState:
         self.curve_weight: list[float] = [1.0] * n_curves
         self.curve_nodes: list[frozenset[int]] = [frozenset(r) for r in cx.curve_nodes.tolist()]
         self.curve_sides: list[tuple[int, int]] = [tuple(r) for r in cx.curve_patches.tolist()]
-        self.curve_origin: list[tuple[int, ...]] = [(c,) for c in range(n_curves)]
         self.node_curves: list[set[int]] = [set(c) for c in cx.node_curves]
         self.patch_alive: list[bool] = [True] * n_patches
         self.patch_curves: list[set[int]] = [set() for _ in range(n_patches)]
@@ -137,7 +136,6 @@ class ComplexState:
         self.curve_weight.append(self.curve_weight[a] + self.curve_weight[b])
         self.curve_nodes.append(nodes)
         self.curve_sides.append((inside, inside))
-        self.curve_origin.append(self.curve_origin[a] + self.curve_origin[b])
         for node in nodes:
             self.node_curves[node].add(n)
         if inside >= 0:

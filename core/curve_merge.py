@@ -77,6 +77,16 @@ def _continues(a: SampledCurve, b: SampledCurve, d_eps: float, cos_max: float) -
     return False
 
 
+def _straight_and_askew(a: SampledCurve, b: SampledCurve, cos_max: float) -> bool:
+    """Both nearly straight and at an angle: they can neither run side by side nor
+    continue each other (the common case of lines crossing at a node, decided cheaply)."""
+    ca, cb = a.points[-1] - a.points[0], b.points[-1] - b.points[0]
+    la, lb = np.hypot(*ca), np.hypot(*cb)
+    if la < 0.95 * a.length or lb < 0.95 * b.length or la == 0 or lb == 0:
+        return False
+    return abs(ca @ cb) / (la * lb) < cos_max
+
+
 def _smoothstep(x: np.ndarray) -> np.ndarray:
     x = np.clip(x, 0.0, 1.0)
     return x * x * (3 - 2 * x)
@@ -118,6 +128,8 @@ def pair_and_merge(a: SampledCurve, wa: float, b: SampledCurve, wb: float, d_eps
     long_, wl, short, ws = (a, wa, b, wb) if a.length >= b.length else (b, wb, a, wa)
     cos_max = np.cos(np.radians(max_angle_deg))
     how = None
+    if _straight_and_askew(a, b, cos_max):
+        return None, None
     # a few points first: most candidate pairs only touch at a node and are refused here
     probe = short.points[np.linspace(0, len(short.points) - 1, 9).astype(int)]
     if (shapely.distance(shapely.points(probe), long_.line) <= d_eps).mean() >= MIN_OVERLAP - 0.2:

@@ -1,9 +1,12 @@
-"""Fourier descriptors of closed outlines (paper section 3.2.1), batched with numpy.
+"""Fourier descriptors of closed outlines (paper section 3.2.1).
 
 An outline is resampled to N points evenly spaced by arc length; its centroid distance
 R(t) is transformed with the FFT; the descriptor is |a_1..a_N/2| / |a_0|. Two shapes differ
 by the Euclidean distance of their descriptors. Magnitudes make it independent of the start
 point and rotation, the centroid of translation, and dividing by |a_0| of scale.
+
+Rings are resampled one at a time with np.interp: for the few hundred points of a ring
+that beats batched fancy indexing, and the merge loop asks for one or two at a time.
 
 A curve is described as the slender ring p0 .. p_n-1, p_n-2 .. p1 (walked there and back).
 """
@@ -20,42 +23,21 @@ def slender_ring(curve: np.ndarray) -> np.ndarray:
     return np.concatenate([curve, curve[-2:0:-1]])
 
 
-def resample_rings(rings: list[np.ndarray], n: int) -> np.ndarray:
-    """Resample closed rings (first point not repeated) to ``n`` points each by arc length.
-
-    Returns an array (len(rings), n, 2). All rings are handled in one vectorised pass.
-    """
-    counts = np.fromiter((len(r) + 1 for r in rings), dtype=np.intp, count=len(rings))
-    closed = np.concatenate([np.concatenate([r, r[:1]]) for r in rings])
-    owner = np.repeat(np.arange(len(rings)), counts)
-    seg = np.hypot(*np.diff(closed, axis=0).T)
-    seg[owner[1:] != owner[:-1]] = 0.0  # no segment between consecutive rings
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    ends = starts + counts - 1
-    length = cum[ends] - cum[starts]
-    frac = np.arange(n) / n
-    target = cum[starts][:, None] + length[:, None] * frac[None, :]
-    # the segment each target falls in, kept inside its own ring
-    idx = np.searchsorted(cum, target.ravel(), side="right") - 1
-    idx = np.clip(idx, np.repeat(starts, n), np.repeat(ends - 1, n))
-    seg_len = cum[idx + 1] - cum[idx]
-    t = np.divide(target.ravel() - cum[idx], seg_len, out=np.zeros_like(seg_len),
-                  where=seg_len > 0)
-    pts = closed[idx] + (closed[idx + 1] - closed[idx]) * t[:, None]
-    return pts.reshape(len(rings), n, 2)
+def resample_ring(ring: np.ndarray, n: int) -> np.ndarray:
+    """A closed ring (first point not repeated) resampled to ``n`` points evenly spaced by
+    arc length, starting at its first point."""
+    closed = np.concatenate([ring, ring[:1]])
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    t = np.arange(n) * (s[-1] / n)
+    return np.stack([np.interp(t, s, closed[:, 0]), np.interp(t, s, closed[:, 1])], axis=1)
 
 
 def fourier_descriptors(rings: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.ndarray:
     """Descriptors (len(rings), n // 2) of closed rings given as (k, 2) point arrays."""
-    if not rings:
-        return np.empty((0, n // 2))
-    samples = resample_rings(rings, n)
-    centroid = samples.mean(axis=1, keepdims=True)
-    radius = np.hypot(*(samples - centroid).transpose(2, 0, 1))
-    coeffs = np.abs(np.fft.rfft(radius, axis=1)) / n  # a_0 .. a_{n/2}
-    a0 = coeffs[:, :1]
-    return np.divide(coeffs[:, 1:], a0, out=np.zeros_like(coeffs[:, 1:]), where=a0 > 0)
+    out = np.empty((len(rings), n // 2))
+    for k, ring in enumerate(rings):
+        out[k] = _descriptor_of_samples(resample_ring(ring, n), n)
+    return out
 
 
 def fourier_descriptor(ring: np.ndarray, n: int = DEFAULT_SAMPLES) -> np.ndarray:

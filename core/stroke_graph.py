@@ -18,7 +18,6 @@ from .geometry import arc_lengths
 class Edge:
     points: np.ndarray
     perimeter: float = np.inf  # of the smallest patch it bounds (inf: bounds none)
-    sources: tuple[int, ...] = ()  # base curves it came from
     free: bool = False  # bounds no patch
     closed: bool = False  # a loop: its ends are one point
 

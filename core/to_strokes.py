@@ -42,7 +42,6 @@ class FittedStroke:
     points: np.ndarray  # sampled polyline of the Bezier
     bezier: np.ndarray  # (3k + 1, 2) control points
     closed: bool
-    sources: tuple[int, ...]  # base curves it came from
 
 
 def linework(state: ComplexState) -> list[Edge]:
@@ -53,8 +52,7 @@ def linework(state: ComplexState) -> list[Edge]:
     for c in state.alive_curves():
         free = state.is_free(c)
         sides = [perim[p] for p in state.curve_sides[c] if p >= 0 and not free]
-        edges.append(Edge(state.curves[c], min(sides, default=np.inf), state.curve_origin[c],
-                          free))
+        edges.append(Edge(state.curves[c], min(sides, default=np.inf), free))
     return edges
 
 
@@ -69,7 +67,6 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
     weights = [1.0] * len(pts)
     alive = [True] * len(pts)
     free = [e.free for e in edges]
-    sources = [e.sources for e in edges]
     fds = list(curve_descriptors(pts, params.samples)) if pts else []
     lines = lines_from(pts)
     i, j = shapely.STRtree(lines).query(lines, predicate="dwithin", distance=d_eps)
@@ -118,7 +115,6 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
         pts.append(merged)
         sampled.append(SampledCurve.of(merged, sample_spacing(d_eps)))
         weights.append(weights[a] + weights[b])
-        sources.append(sources[a] + sources[b])
         fds.append(curve_descriptors([merged], params.samples)[0])
         free.append(False)
         alive[a] = alive[b] = False
@@ -131,13 +127,13 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
             offer(c, n, min(known.get((min(a, c), max(a, c)), np.inf),
                             known.get((min(b, c), max(b, c)), np.inf)))
     perim = {k: e.perimeter for k, e in enumerate(edges)}
-    return [Edge(pts[k], perim.get(k, np.inf), sources[k]) for k in range(len(pts)) if alive[k]]
+    return [Edge(pts[k], perim.get(k, np.inf), free[k]) for k in range(len(pts)) if alive[k]]
 
 
 def renode(edges: list[Edge]) -> list[Edge]:
     """Split edges where they cross: merged curves are drawn anew and cross without nodes.
 
-    Each piece keeps the perimeter and sources of the edge it lies on.
+    Each piece keeps the perimeter of the edge it lies on.
     """
     if not edges:
         return edges
@@ -146,7 +142,7 @@ def renode(edges: list[Edge]) -> list[Edge]:
     pieces = pieces[(shapely.get_type_id(pieces) == 1) & (shapely.length(pieces) > 0)]
     mids = shapely.line_interpolate_point(pieces, 0.5, normalized=True)
     owner = shapely.STRtree(lines).query_nearest(mids, all_matches=False)[1]
-    return [Edge(pts, edges[k].perimeter, edges[k].sources, edges[k].free)
+    return [Edge(pts, edges[k].perimeter, edges[k].free)
             for pts, k in zip(split_coordinates(pieces), owner.tolist())]
 
 
@@ -243,7 +239,7 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
     done = np.zeros(n_edges, dtype=bool)
 
     def walk(start_end: int) -> Edge:
-        parts, sources, perimeter, free = [], [], np.inf, True
+        parts, perimeter, free = [], np.inf, True
         e = start_end  # we enter edge e >> 1 at end e and leave at the other end
         closed = False
         while True:
@@ -251,7 +247,6 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
             done[k] = True
             pts = graph.edges[k].points
             parts.append(pts if e % 2 == 0 else pts[::-1])
-            sources.extend(graph.edges[k].sources)
             perimeter = min(perimeter, graph.edges[k].perimeter)
             free = free and graph.edges[k].free
             nxt = link[e ^ 1]
@@ -262,7 +257,7 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
                 break
             e = nxt
         pts = np.concatenate([parts[0]] + [p[1:] for p in parts[1:]])
-        return Edge(pts, perimeter, tuple(sorted(set(sources))), free, closed)
+        return Edge(pts, perimeter, free, closed)
 
     for k in range(n_edges):  # open chains first: start where no link enters
         for side in (0, 1):
@@ -287,5 +282,5 @@ def to_strokes(state: ComplexState, params: SimplifyParams) -> list[FittedStroke
             continue
         bez = fit_bezier(stroke.points, params.fit_error, params.corner_angle,
                          closed=stroke.closed)
-        out.append(FittedStroke(sample(bez, 12), bez, stroke.closed, stroke.sources))
+        out.append(FittedStroke(sample(bez, 12), bez, stroke.closed))
     return out

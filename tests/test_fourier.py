@@ -11,7 +11,7 @@ from core.fourier import (
     fd_distance,
     fourier_descriptor,
     fourier_descriptors,
-    resample_rings,
+    resample_ring,
     slender_ring,
 )
 
@@ -53,10 +53,17 @@ def test_batch_equals_one_at_a_time():
 
 def test_resampling_is_even_by_arc_length():
     sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
-    pts = resample_rings([sq, sq * 2], 8)
-    np.testing.assert_allclose(pts[0], [[0, 0], [.5, 0], [1, 0], [1, .5], [1, 1], [.5, 1],
-                                        [0, 1], [0, .5]])
-    np.testing.assert_allclose(pts[1], pts[0] * 2)
+    pts = resample_ring(sq, 8)
+    np.testing.assert_allclose(pts, [[0, 0], [.5, 0], [1, 0], [1, .5], [1, 1], [.5, 1],
+                                     [0, 1], [0, .5]])
+    np.testing.assert_allclose(resample_ring(sq * 2, 8), pts * 2)
+
+
+def test_curve_descriptor_is_the_descriptor_of_its_slender_ring():
+    t = np.linspace(0, 2, 57)
+    curve = np.stack([t, np.sin(t) * 0.4], axis=1)
+    direct = curve_descriptors([curve])[0]
+    np.testing.assert_allclose(direct, fourier_descriptor(slender_ring(curve)), atol=1e-9)
 
 
 def test_slender_ring():
