@@ -1,6 +1,7 @@
 """From a simplified complex back to strokes (paper 3.3).
 
-1. The linework: every curve still alive, free or on a patch outline, once.
+1. The linework: every curve still alive, free or on a patch outline, once, chained through
+   nodes of degree 2 and cut at hairpin turns (the tips of slender patches).
 2. Bi-edges: curves that still run side by side (the two long sides of a slender border
    patch, or a free curve along an outline) are merged by the curve-curve operator again,
    while the merge costs less than epsilon.
@@ -25,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from .bezier import fit_bezier, sample
+from .bezier import corner_indices, fit_bezier, sample
 from .complex_state import ComplexState
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance
@@ -269,11 +270,33 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
     return strokes
 
 
+#: turns sharper than this, in degrees, are the tips of slender border patches
+TIP_ANGLE = 100.0
+
+
+def split_at_tips(chains: list[Edge], d_eps: float) -> list[Edge]:
+    """Cut chains at hairpin turns, and loops without one in two halves, so that the two
+    long sides of a slender patch face each other as two edges."""
+    out = []
+    for e in chains:
+        pts = e.points
+        cuts = corner_indices(pts, TIP_ANGLE, d_eps)
+        if e.closed and not cuts:
+            far = int(np.argmax(np.hypot(*(pts - pts[0]).T)))
+            cuts = [far] if 0 < far < len(pts) - 1 else []
+        bounds = [0, *cuts, len(pts) - 1]
+        out += [Edge(pts[i:j + 1], e.perimeter, e.free) for i, j in zip(bounds[:-1], bounds[1:])
+                if j > i]
+    return out
+
+
 def to_strokes(state: ComplexState, params: SimplifyParams) -> list[FittedStroke]:
     """Output strokes (unit frame) of a simplified complex."""
     d_eps = params.alpha
     snap = d_eps / 2
-    graph = build_graph(renode(merge_bi_edges(linework(state), params)), snap)
+    chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
+    edges = merge_bi_edges(split_at_tips(chains, d_eps), params)
+    graph = build_graph(renode(edges), snap)
     graph = trim_spurs(graph, d_eps)
     graph = contract_short_edges(graph, d_eps, params.beta)
     out = []

@@ -63,7 +63,7 @@ def test_rough_square_becomes_four_sides_with_sharp_corners(per_side):
     assert 1 <= len(result.strokes) <= 4
     out = [s.points for s in result.strokes]
     square = [np.array([(0, 0), (100, 0), (100, 100), (0, 100), (0, 0)], float)]
-    assert max_distance_to(np.concatenate(out), square) < 2.5
+    assert max_distance_to(np.concatenate(out), square) < 3.0  # overshoots trimmed
     assert coverage(square, out, tol=2.0) > 0.97
     # each corner is a sharp joint: an end or Bezier knot lies on it, not a rounded arc
     knots = np.concatenate([s.bezier[::3] for s in result.strokes])
