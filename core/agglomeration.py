@@ -41,7 +41,15 @@ from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance, fourier_descriptors
 from .geometry import lines_from, resample_polyline
 from .params import SimplifyParams
-from .patch_rings import RingGeometry, half_edges, spike_walk, union_rings
+from .guard import DistanceGuard
+from .patch_rings import (
+    Outline,
+    RingGeometry,
+    half_edges,
+    spike_walk,
+    union_outline_points,
+    union_rings,
+)
 
 INF = math.inf
 #: stale patch-patch pairs are keyed by this fraction of their parents' cheapest cost
@@ -64,13 +72,13 @@ class Agglomerator:
         self.state = ComplexState(cx)
         self.geometry = RingGeometry(cx)
         self.lines = lines_from(cx.curves) if cx.curves else np.empty(0, dtype=object)
-        self.tree = shapely.STRtree(self.lines)
+        self.guard = DistanceGuard(cx.curves, self.lines, self.d_eps)
+        self.outlines: dict[int, Outline] = {}
         self.rings: list[list[list[int]]] = [
             [half_edges(p.boundary)] + [half_edges(h) for h in p.holes] for p in cx.patches]
         self.patch_fd: dict[int, np.ndarray] = {}
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
-        self.guard_samples: dict[int, np.ndarray] = {}
         self.known: dict[tuple, float] = {}
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
@@ -98,42 +106,42 @@ class Agglomerator:
             self.curve_fd[c] = curve_descriptors([self.state.curves[c]], self.params.samples)[0]
         return self.curve_fd[c]
 
-    # -- the guard: nothing removed may lie farther than d_eps from what stays -------------
-    def _samples(self, curves: list[int]) -> np.ndarray:
-        for c in curves:
-            if c not in self.guard_samples:
-                self.guard_samples[c] = resample_polyline(self.state.curves[c], self.d_eps / 2)
-        return np.concatenate([self.guard_samples[c] for c in curves])
-
-    def _near(self, points: np.ndarray, allowed: set[int]) -> bool:
-        if not allowed:
-            return False
-        lo, hi = points.min(axis=0) - self.d_eps, points.max(axis=0) + self.d_eps
-        cand = [c for c in self.tree.query(shapely.box(*lo, *hi)).tolist() if c in allowed]
-        if not cand:
-            return False
-        d = shapely.distance(shapely.points(points)[:, None], self.lines[cand][None, :])
-        return bool(d.min(axis=1).max() <= self.d_eps)
-
     # -- costs -------------------------------------------------------------------------------
-    def _cost_pp(self, p: int, q: int) -> tuple[float, list[list[int]] | None]:
+    def _outline(self, p: int) -> Outline:
+        if p not in self.outlines:
+            self.outlines[p] = Outline(self.rings[p][0], self.geometry)
+        return self.outlines[p]
+
+    def _cost_pp(self, p: int, q: int) -> float:
         st = self.state
         shared = st.shared_curves(p, q)
         if not shared:
-            return INF, None
+            return INF
         allowed = (st.patch_curves[p] | st.patch_curves[q]) - set(shared)
-        if not self._near(self._samples(shared), allowed):
-            return INF, None
-        rings = union_rings(self.rings[p], self.rings[q], shared, self.geometry)
-        if not rings or self.geometry.area(rings[0]) <= 0:
-            return INF, None
-        new = self._fds([self.geometry.points(rings[0])])[0]
-        cost = min(fd_distance(self._patch_fd(p), new), fd_distance(self._patch_fd(q), new))
-        return float(cost), rings
+        if not self.guard.covered(shared, allowed):
+            return INF
+        points = None
+        if len(self.rings[p]) == 1 and len(self.rings[q]) == 1:
+            points = union_outline_points(self._outline(p), self._outline(q), shared)
+        if points is None:
+            rings = union_rings(self.rings[p], self.rings[q], shared, self.geometry)
+            if not rings:
+                return INF
+            points = self.geometry.points(rings[0])
+        x, y = points[:, 0], points[:, 1]
+        if x[:-1] @ y[1:] - x[1:] @ y[:-1] + x[-1] * y[0] - x[0] * y[-1] <= 0:
+            return INF  # not a face: the union turned inside out
+        new = self._fds([points])[0]
+        return float(min(fd_distance(self._patch_fd(p), new), fd_distance(self._patch_fd(q), new)))
 
     def _cost_cp(self, c: int, p: int) -> float:
         st = self.state
-        if not self._near(self._samples([c]), st.patch_curves[p]):
+        if c < len(self.guard.samples):
+            covered = self.guard.covered([c], st.patch_curves[p])
+        else:  # a curve made by a curve-curve merge: measured, not tabled
+            covered = self.guard.covered([], st.patch_curves[p],
+                                         resample_polyline(st.curves[c], self.d_eps / 2))
+        if not covered:
             return INF
         ends = {int(n) for e in st.patch_curves[p] for n in self.geometry.curve_nodes[e]}
         nodes = sorted(st.curve_nodes[c] & ends)
@@ -159,7 +167,7 @@ class Agglomerator:
     def _cost(self, kind: str, a: int, b: int) -> float:
         self.stats.pairs_costed[kind] += 1
         if kind == "PP":
-            cost = self._cost_pp(a, b)[0]
+            cost = self._cost_pp(a, b)
         elif kind == "CP":
             cost = self._cost_cp(a, b)
         else:
@@ -231,7 +239,8 @@ class Agglomerator:
     def _apply(self, kind: str, a: int, b: int, cost: float) -> None:
         st = self.state
         if kind == "PP":
-            _, rings = self._cost_pp(a, b)
+            rings = union_rings(self.rings[a], self.rings[b], st.shared_curves(a, b),
+                                self.geometry)
             r = st.merge_patches(a, b)
             self.rings.append(rings)
             self.history.append(Merge("PP", cost, a, b, r))

@@ -105,3 +105,53 @@ def union_rings(rings_p: list[list[int]], rings_q: list[list[int]], shared: list
         rings.append(ring)
     rings.sort(key=geometry.area, reverse=True)
     return rings
+
+
+class Outline:
+    """A patch's outer ring as arrays, for quick unions with a neighbour."""
+
+    def __init__(self, ring: list[int], geometry: RingGeometry) -> None:
+        self.half = ring
+        self.pos = {h: i for i, h in enumerate(ring)}
+        curves = geometry.curves
+        parts = [curves[h >> 1][:-1] if h % 2 == 0 else curves[h >> 1][:0:-1] for h in ring]
+        self.start = np.concatenate([[0], np.cumsum([len(p) for p in parts])])
+        self.points = np.concatenate(parts)
+
+    def arc(self, first: int, last: int) -> np.ndarray:
+        """Points of the half-edges ``first`` to ``last`` (cyclic, inclusive)."""
+        a, b = self.start[first], self.start[last + 1]
+        if first <= last:
+            return self.points[a:b]
+        return np.concatenate([self.points[a:], self.points[:b]])
+
+
+def _cyclic_run(positions: list[int], n: int) -> tuple[int, int] | None:
+    """(first, last) when the positions form one unbroken cyclic run shorter than n."""
+    s = sorted(positions)
+    k = len(s)
+    if k == 0 or k >= n:
+        return None
+    breaks = [i for i in range(k) if (s[(i + 1) % k] - s[i]) % n != 1]
+    if len(breaks) != 1:
+        return None
+    return s[(breaks[0] + 1) % k], s[breaks[0]]
+
+
+def union_outline_points(op: Outline, oq: Outline, shared: list[int]) -> np.ndarray | None:
+    """Outer ring points of the union of two hole-free patches sharing one run of curves.
+
+    The union walks p's ring from where the shared run ends to where it starts, then q's
+    the same way. None when the shared curves are not one run on both outlines (the
+    general :func:`union_rings` handles those).
+    """
+    hp = [op.pos[h] for c in shared for h in (2 * c, 2 * c + 1) if h in op.pos]
+    hq = [oq.pos[h] for c in shared for h in (2 * c, 2 * c + 1) if h in oq.pos]
+    if len(hp) != len(shared) or len(hq) != len(shared):
+        return None
+    rp, rq = _cyclic_run(hp, len(op.half)), _cyclic_run(hq, len(oq.half))
+    if rp is None or rq is None:
+        return None
+    arc_p = op.arc((rp[1] + 1) % len(op.half), (rp[0] - 1) % len(op.half))
+    arc_q = oq.arc((rq[1] + 1) % len(oq.half), (rq[0] - 1) % len(oq.half))
+    return np.concatenate([arc_p, arc_q])
