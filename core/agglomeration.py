@@ -40,8 +40,8 @@ from .complex_state import ComplexState, Merge
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance, fourier_descriptors
 from .geometry import lines_from, resample_polyline
-from .params import SimplifyParams
 from .guard import DistanceGuard
+from .params import SimplifyParams
 from .patch_rings import (
     Outline,
     RingGeometry,
