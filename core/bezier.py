@@ -51,8 +51,8 @@ def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) ->
     cos[ok] = (d_in[ok] * d_out[ok]).sum(axis=1) / (n_in[ok] * n_out[ok])
     sharp = cos < np.cos(np.radians(corner_angle_deg))
     corners: list[int] = []
-    for k in np.flatnonzero(sharp):  # keep the sharpest point of each sharp run
-        if corners and k - corners[-1] <= 1 or (corners and s[k] - s[corners[-1]] < reach):
+    for k in np.flatnonzero(sharp):  # of sharp points closer than reach keep the sharpest
+        if corners and s[k] - s[corners[-1]] < reach:
             if cos[k] < cos[corners[-1]]:
                 corners[-1] = int(k)
             continue
@@ -73,7 +73,10 @@ def _fit_cubic(pts: np.ndarray, u: np.ndarray, t0: np.ndarray, t1: np.ndarray) -
     alpha1 = alpha2 = 0.0
     if abs(det) > 1e-12 * max(c00 * c11, 1e-300):
         alpha1, alpha2 = (x0 * c11 - x1 * c01) / det, (c00 * x1 - c01 * x0) / det
-    if alpha1 < 1e-6 * chord or alpha2 < 1e-6 * chord:  # Wu/Barsky heuristic
+    arc = float(np.hypot(*np.diff(pts, axis=0).T).sum())
+    if min(alpha1, alpha2) < 1e-6 * chord or max(alpha1, alpha2) > arc:
+        # Wu/Barsky: a degenerate solve, or handles longer than the whole piece (which
+        # would loop far away between the samples): fall back to a third of the chord
         alpha1 = alpha2 = chord / 3
     return np.array([p0, p0 + alpha1 * t0, p3 + alpha2 * t1, p3])
 

@@ -30,7 +30,7 @@ MIN_OVERLAP = 0.5
 def sample_spacing(d_eps: float) -> float:
     """Spacing at which curves are resampled for pairing and merging: fine enough to
     follow a bundle d_eps wide, coarse enough to stay cheap."""
-    return d_eps / 3
+    return d_eps / 2
 
 
 @dataclass(eq=False)

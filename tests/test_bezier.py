@@ -1,0 +1,59 @@
+"""Schneider Bezier fitting: error bound, corners, no blow-ups."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from core.bezier import corner_indices, fit_bezier, sample
+from core.geometry import resample_polyline
+
+
+def distance_to(points, polyline):
+    return shapely.distance(shapely.points(points), shapely.LineString(polyline))
+
+
+def test_arc_within_the_error_bound_and_few_segments():
+    t = np.linspace(0, np.pi, 200)
+    arc = np.stack([np.cos(t), np.sin(t)], axis=1)
+    ctrl = fit_bezier(arc, 1e-3)
+    assert (len(ctrl) - 1) % 3 == 0 and len(ctrl) <= 3 * 4 + 1
+    assert np.abs(np.hypot(*sample(ctrl, 32).T) - 1).max() < 2e-3
+    np.testing.assert_allclose(ctrl[[0, -1]], arc[[0, -1]])
+
+
+def test_square_keeps_its_four_corners():
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], float)
+    ctrl = fit_bezier(resample_polyline(square, 0.01), 0.002, closed=True)
+    knots = ctrl[::3]
+    for corner in square[:4]:
+        assert np.hypot(*(knots - corner).T).min() < 1e-9
+    assert len(knots) == 5  # one cubic per side: straight sides need no more
+
+
+def test_corner_detection_sees_sharp_turns_only():
+    t = np.linspace(0, 1, 50)
+    v = np.concatenate([np.stack([t, t], 1), np.stack([1 + t, 1 - t], 1)[1:]])
+    assert corner_indices(v, 50, 0.05) == [49]
+    gentle = np.stack([t, 0.1 * np.sin(3 * t)], axis=1)
+    assert corner_indices(gentle, 50, 0.05) == []
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.floats(-1, 1), st.floats(-1, 1)), min_size=2, max_size=12),
+       st.sampled_from([1e-3, 1e-2, 5e-2]))
+def test_fits_never_blow_up(raw, tol):
+    pts = np.array(raw, dtype=float)
+    keep = np.concatenate([[True], np.hypot(*np.diff(pts, axis=0).T) > 1e-6])
+    pts = pts[keep]
+    if len(pts) < 2:
+        return
+    ctrl = fit_bezier(pts, tol)
+    assert np.isfinite(ctrl).all()
+    # the data points are fitted within the bound ...
+    assert distance_to(pts, sample(ctrl, 64)).max() <= tol * 1.01 + 1e-9
+    # ... and the curve does not wander off between them
+    length = np.hypot(*np.diff(pts, axis=0).T).sum()
+    assert distance_to(sample(ctrl, 64), pts).max() <= 0.5 * length + 1e-9
