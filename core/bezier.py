@@ -110,7 +110,7 @@ def _fit_piece(pts: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float,
         u = _reparameterise(ctrl, pts, u)
         ctrl = _fit_cubic(pts, u, t0, t1)
     err = np.hypot(*(evaluate(ctrl, u) - pts).T)
-    if err.max() <= tol or depth > 24 or len(pts) < 4:
+    if err.max() <= tol or depth > 24:
         return [ctrl]
     split = int(np.clip(np.argmax(err), 1, len(pts) - 2))
     centre = _unit(pts[split - 1] - pts[split + 1])
