@@ -23,8 +23,14 @@ def node_strokes(strokes: list[np.ndarray], grid: float = GRID) -> list[np.ndarr
     Coordinates come back snapped to ``grid``; closed loops repeat their first point last.
     """
     lines = lines_from(strokes)
-    union = shapely.unary_union(lines, grid_size=grid)
+    # GEOS can raise the CPU's divide-by-zero flag inside snap-rounding on degenerate
+    # segments, which numpy reports as a warning; the output is checked below instead
+    with np.errstate(divide="ignore", invalid="ignore"):
+        union = shapely.unary_union(lines, grid_size=grid)
     merged = shapely.get_parts(shapely.line_merge(union))
     merged = merged[shapely.get_type_id(merged) == 1]  # LineString only
     merged = merged[shapely.length(merged) > 0]
-    return split_coordinates(merged)
+    curves = split_coordinates(merged)
+    if curves and not all(np.isfinite(c).all() for c in curves):
+        raise ArithmeticError("noding produced non-finite coordinates")
+    return curves
