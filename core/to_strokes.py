@@ -20,7 +20,6 @@
 
 from __future__ import annotations
 
-import heapq
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,77 +57,80 @@ def linework(state: ComplexState) -> list[Edge]:
 
 
 def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
-    """The second curve-curve pass: merge side-by-side edges while it costs < epsilon.
+    """The second curve-curve pass: merge side-by-side edges whose merge costs < epsilon.
 
-    Pairs of two free curves are left out: agglomeration has already judged them.
+    Candidate pairs (within d_eps; not two free curves, which agglomeration has judged;
+    with most of five points of the shorter edge within d_eps of the longer) are swept
+    closest first, by the mean distance of those points. Each pair stands for whatever its edges have been merged into by then; a pair
+    already merged into one is skipped, the others are costed then and merged if they
+    still pair and cost less than epsilon. Costing lazily this way, a dense cluster of k
+    overlapping edges costs about k merges, not the k * k pairs among them.
     """
     d_eps = params.alpha
     pts = [e.points for e in edges]
-    sampled = [SampledCurve.of(p, sample_spacing(d_eps)) for p in pts]
+    if len(pts) < 2:
+        return edges
+    sampled: dict[int, SampledCurve] = {}
+    fds: dict[int, np.ndarray] = {}
     weights = [1.0] * len(pts)
-    alive = [True] * len(pts)
     free = [e.free for e in edges]
-    fds = list(curve_descriptors(pts, params.samples)) if pts else []
+    parent = list(range(len(pts)))
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    def curve(k: int) -> SampledCurve:
+        if k not in sampled:
+            sampled[k] = SampledCurve.of(pts[k], sample_spacing(d_eps))
+        return sampled[k]
+
+    def fd(k: int) -> np.ndarray:
+        if k not in fds:
+            fds[k] = curve_descriptors([pts[k]], params.samples)[0]
+        return fds[k]
+
     lines = lines_from(pts)
     i, j = shapely.STRtree(lines).query(lines, predicate="dwithin", distance=d_eps)
-    partners: dict[int, set[int]] = {}
-    heap: list[tuple] = []
-    order = 0
-    known: dict[tuple[int, int], float] = {}
-
-    def cost_of(a: int, b: int) -> tuple[float, np.ndarray | None]:
-        if free[a] and free[b]:
-            return np.inf, None
-        how, merged = pair_and_merge(sampled[a], weights[a], sampled[b], weights[b], d_eps,
+    keep = (i < j) & ~(np.array(free)[i] & np.array(free)[j])
+    i, j = i[keep], j[keep]
+    if len(i) == 0:
+        return edges
+    length = shapely.length(lines)
+    short = np.where(length[i] <= length[j], i, j)
+    long_ = np.where(length[i] <= length[j], j, i)
+    probes = shapely.line_interpolate_point(lines[np.repeat(short, 5)],
+                                            np.tile(np.linspace(0, 1, 5), len(short)),
+                                            normalized=True)
+    dist = shapely.distance(probes, lines[np.repeat(long_, 5)]).reshape(-1, 5)
+    closeness = dist.mean(axis=1)
+    beside = (dist <= d_eps).mean(axis=1) >= 0.4  # most of the shorter runs along the longer
+    order = np.lexsort((j, i, closeness))
+    refused: set[tuple[int, int]] = set()  # pairs of current edges judged not to merge
+    for k in order[beside[order]].tolist():
+        a, b = sorted((find(int(i[k])), find(int(j[k]))))
+        if a == b or (a, b) in refused:
+            continue
+        refused.add((a, b))  # a merge replaces both, so the pair never comes up again
+        how, merged = pair_and_merge(curve(a), weights[a], curve(b), weights[b], d_eps,
                                      params.angle, sides_only=True)
         if how is None:
-            return np.inf, None
-        fd = curve_descriptors([merged], params.samples)[0]
-        return float(min(fd_distance(fds[a], fd), fd_distance(fds[b], fd))), merged
-
-    def offer(a: int, b: int, old: float = np.inf) -> None:
-        """Queue a pair (a < b): stale under a known cost, else costed now."""
-        nonlocal order
-        if old < np.inf:
-            heapq.heappush(heap, (old, order, a, b, False))
-        else:
-            cost, _ = cost_of(a, b)
-            known[(a, b)] = cost
-            if cost < params.epsilon:
-                heapq.heappush(heap, (cost, order, a, b, True))
-        order += 1
-
-    for a, b in sorted({(x, y) for x, y in zip(i.tolist(), j.tolist()) if x < y}):
-        partners.setdefault(a, set()).add(b)
-        partners.setdefault(b, set()).add(a)
-        offer(a, b)
-    while heap:
-        cost, _, a, b, fresh = heapq.heappop(heap)
-        if not (alive[a] and alive[b]):
             continue
-        if not fresh:
-            offer(a, b)
+        new_fd = curve_descriptors([merged], params.samples)[0]
+        if min(fd_distance(fd(a), new_fd), fd_distance(fd(b), new_fd)) >= params.epsilon:
             continue
-        if cost >= params.epsilon:
-            break
-        _, merged = cost_of(a, b)
         n = len(pts)
         pts.append(merged)
-        sampled.append(SampledCurve.of(merged, sample_spacing(d_eps)))
+        fds[n] = new_fd
         weights.append(weights[a] + weights[b])
-        fds.append(curve_descriptors([merged], params.samples)[0])
         free.append(False)
-        alive[a] = alive[b] = False
-        alive.append(True)
-        near = (partners.pop(a, set()) | partners.pop(b, set())) - {a, b}
-        partners[n] = set()
-        for c in sorted(x for x in near if alive[x]):
-            partners[n].add(c)
-            partners.setdefault(c, set()).add(n)
-            offer(c, n, min(known.get((min(a, c), max(a, c)), np.inf),
-                            known.get((min(b, c), max(b, c)), np.inf)))
+        parent.append(n)
+        parent[a] = parent[b] = n
     perim = {k: e.perimeter for k, e in enumerate(edges)}
-    return [Edge(pts[k], perim.get(k, np.inf), free[k]) for k in range(len(pts)) if alive[k]]
+    return [Edge(pts[k], perim.get(k, np.inf), free[k]) for k in range(len(pts))
+            if parent[k] == k]
 
 
 def renode(edges: list[Edge]) -> list[Edge]:
