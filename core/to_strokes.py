@@ -61,10 +61,11 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
 
     Candidate pairs (within d_eps; not two free curves, which agglomeration has judged;
     with most of five points of the shorter edge within d_eps of the longer) are swept
-    closest first, by the mean distance of those points. Each pair stands for whatever its edges have been merged into by then; a pair
-    already merged into one is skipped, the others are costed then and merged if they
-    still pair and cost less than epsilon. Costing lazily this way, a dense cluster of k
-    overlapping edges costs about k merges, not the k * k pairs among them.
+    closest first, by the mean distance of those points. Each pair stands for whatever its
+    edges have been merged into by then; a pair already merged into one is skipped, and
+    every pair of current edges is judged once: costed, and merged if it still pairs and
+    costs less than epsilon. Costed lazily this way, a dense cluster of k overlapping edges
+    costs about k merges, not the k * k pairs among them.
     """
     d_eps = params.alpha
     pts = [e.points for e in edges]
