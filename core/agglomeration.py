@@ -53,7 +53,7 @@ from .patch_rings import (
 
 INF = math.inf
 #: stale patch-patch pairs are keyed by this fraction of their parents' cheapest cost
-PP_ESTIMATE = 0.5
+PP_ESTIMATE = 0.7
 
 
 @dataclass
@@ -194,7 +194,7 @@ class Agglomerator:
             self._push(self._cost(kind, a, b), kind, a, b, True)
             return
         # a patch that grew may unite more cheaply with a neighbour than its parts did:
-        # halve the estimate, so that such pairs surface and are re-costed in time
+        # lower the estimate, so that such pairs surface and are re-costed in time
         estimate = min(known) * (PP_ESTIMATE if kind == "PP" else 1.0)
         self.known[(kind, a, b)] = estimate  # what this pair's own children will inherit
         if estimate < INF:

@@ -62,8 +62,9 @@ def curve_descriptors(curves: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.
 
 
 def _descriptor_of_samples(samples: np.ndarray, n: int) -> np.ndarray:
-    radius = np.hypot(*(samples - samples.mean(axis=0)).T)
-    coeffs = np.abs(np.fft.rfft(radius)) / n
+    centre = samples.sum(axis=0) / n
+    radius = np.sqrt(((samples - centre) ** 2).sum(axis=1))
+    coeffs = np.abs(np.fft.rfft(radius))
     return coeffs[1:] / coeffs[0] if coeffs[0] > 0 else np.zeros(n // 2)
 
 

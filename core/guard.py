@@ -1,10 +1,10 @@
 """The distance guard: whatever a merge removes must lie within d_eps of what stays.
 
 ``covered(curves, allowed)`` asks whether every sample of ``curves`` lies within d_eps of
-one of the ``allowed`` curves. Base curves never change shape, so for each base curve the
-largest distance of its samples to each nearby base curve is tabled once; a single allowed
-curve that covers a removed curve on its own settles the question without geometry. Only
-what the table cannot settle is measured, exactly.
+one of the ``allowed`` curves. Base curves never change shape, so for a base curve the
+nearby base curves that each cover all of it are found once, on first use; one of them
+among the allowed settles the question without geometry. Only what that cannot settle is
+measured, exactly.
 """
 
 from __future__ import annotations
@@ -21,22 +21,18 @@ class DistanceGuard:
         self.lines = lines
         self.tree = shapely.STRtree(lines)
         self.samples = [resample_polyline(c, d_eps / 2) for c in curves]
-        self.cover: dict[int, set[int]] = {}  # curve -> base curves within d_eps of all of it
-        if len(curves) < 2:
-            return
-        a, b = self.tree.query(lines, predicate="dwithin", distance=d_eps)
-        keep = a != b
-        a, b = a[keep], b[keep]
-        counts = np.array([len(s) for s in self.samples])
-        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        points = shapely.points(np.concatenate(self.samples))  # each sample made once
-        owner = np.repeat(np.arange(len(a)), counts[a])  # pair of each (sample, line) row
-        local = np.arange(len(owner)) - np.repeat(np.cumsum(counts[a]) - counts[a], counts[a])
-        d = shapely.distance(points[starts[a][owner] + local], lines[b[owner]])
-        worst = np.full(len(a), -np.inf)
-        np.maximum.at(worst, owner, d)
-        for x, y in zip(a[worst <= d_eps].tolist(), b[worst <= d_eps].tolist()):
-            self.cover.setdefault(x, set()).add(y)
+        self._cover: dict[int, set[int]] = {}
+
+    def cover(self, c: int) -> set[int]:
+        """Base curves (other than ``c``) within d_eps of every sample of base curve ``c``."""
+        if c not in self._cover:
+            pts = self.samples[c]
+            lo, hi = pts.min(axis=0) - self.d_eps, pts.max(axis=0) + self.d_eps
+            near = self.tree.query(shapely.box(*lo, *hi))  # a box query is quick; the
+            near = near[near != c]                         # distances below decide
+            d = shapely.distance(shapely.points(pts)[:, None], self.lines[near][None, :])
+            self._cover[c] = set(near[d.max(axis=0) <= self.d_eps].tolist())
+        return self._cover[c]
 
     def covered(self, removed: list[int], allowed: set[int], extra: np.ndarray | None = None
                 ) -> bool:
@@ -44,7 +40,7 @@ class DistanceGuard:
         d_eps of the ``allowed`` base curves."""
         if not allowed:
             return False
-        unsettled = [c for c in removed if not self.cover.get(c, set()) & allowed]
+        unsettled = [c for c in removed if not self.cover(c) & allowed]
         if not unsettled and extra is None:
             return True
         pts = [self.samples[c] for c in unsettled] + ([extra] if extra is not None else [])

@@ -23,8 +23,8 @@ from core import build_base_complex, clean_sketch, normalised_strokes, read_sket
 
 def sketch_name(path: Path, data: Path) -> str:
     rel = path.relative_to(data)
-    if path.name == "full_cluster.scap":  # lift3d: designer/object/view1/lines_separation/
-        return f"{rel.parts[0]}/{rel.parts[2]}/{rel.parts[3]}"
+    if path.name == "full_cluster.scap":  # lift3d: .../full_clusters/designer/object/view1/...
+        return f"{rel.parts[0]}/{rel.parts[3]}/{rel.parts[4]}"
     return f"{rel.parts[0]}/{path.stem}"
 
 
