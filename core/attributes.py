@@ -1,7 +1,9 @@
 """Carrying width, pressure and style from the input strokes over to output strokes.
 
-Each output point takes the values of the nearest point of the nearest input stroke; the
-stroke's style is the most common style among the input strokes nearest to its points.
+Each output point takes the width and pressure found, by arc length, at the nearest point
+of the nearest input stroke; a stroke's style is the most common style among the input
+strokes nearest to its points. All look-ups for a stroke are a few vectorised calls: the
+per-point values of every input stroke sit in one array, indexed by a running arc length.
 """
 
 from __future__ import annotations
@@ -11,44 +13,83 @@ from collections import Counter
 import numpy as np
 import shapely
 
-from .geometry import lines_from
+from .geometry import arc_lengths
 from .sketch import Stroke
 
 
 class NearestInk:
-    """Nearest-stroke look-ups over the input strokes (unit frame)."""
+    """Nearest-stroke look-ups over the input strokes (given in the unit frame)."""
 
-    def __init__(self, strokes: list[Stroke], unit_points: list[np.ndarray]) -> None:
+    def __init__(self, strokes: list[Stroke], unit_points: list[np.ndarray],
+                 radius: float = 0.02) -> None:
         self.strokes = strokes
-        self.points = unit_points
-        self.tree = shapely.STRtree(lines_from(unit_points))
+        self.radius = radius
+        s = [arc_lengths(p) for p in unit_points]
+        # one increasing "running arc length" over all strokes, a gap of 1 between them
+        offset = np.concatenate([[0.0], np.cumsum([x[-1] + 1.0 for x in s])[:-1]])
+        self.running = np.concatenate([x + o for x, o in zip(s, offset)])
+        # the tree holds single segments: nearest queries against them are far quicker
+        # than against whole strokes of hundreds of points
+        starts = np.concatenate([np.arange(len(p) - 1) + k for p, k in
+                                 zip(unit_points, np.cumsum([0] + [len(p) for p in
+                                                                    unit_points[:-1]]))])
+        flat = np.concatenate(unit_points)
+        self.segments = shapely.linestrings(
+            np.stack([flat[starts], flat[starts + 1]], axis=1))
+        self.segment_start = starts
+        self.segment_stroke = np.repeat(np.arange(len(unit_points)),
+                                        [len(p) - 1 for p in unit_points])
+        self.tree = shapely.STRtree(self.segments)
+        self.values = {name: self._stack(name) for name in ("width", "pressure")}
 
-    def transfer(self, points: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None,
-                                                     str | None, tuple[int, ...]]:
-        """Width and pressure per point, style, and ids of the input strokes used."""
-        nearest = self.tree.query_nearest(shapely.points(points), all_matches=False)[1]
-        ids = tuple(sorted({self.strokes[k].source_id if self.strokes[k].source_id is not None
-                            else int(k) for k in nearest.tolist()}))
-        width = self._per_point("width", nearest, points)
-        pressure = self._per_point("pressure", nearest, points)
-        styles = Counter(self.strokes[k].style for k in nearest.tolist()
-                         if self.strokes[k].style is not None)
-        style = styles.most_common(1)[0][0] if styles else None
-        return width, pressure, style, ids
+    def _stack(self, name: str) -> np.ndarray | None:
+        arrays = [getattr(st, name) for st in self.strokes]
+        if all(a is None for a in arrays):
+            return None
+        return np.concatenate([a if a is not None else np.full(len(st.points), np.nan)
+                               for a, st in zip(arrays, self.strokes)])
 
-    def _per_point(self, name: str, nearest: np.ndarray, points: np.ndarray) -> np.ndarray | None:
-        if all(getattr(self.strokes[k], name) is None for k in set(nearest.tolist())):
-            return None
-        out = np.empty(len(points))
-        for k in np.unique(nearest).tolist():
-            rows = np.flatnonzero(nearest == k)
-            values = getattr(self.strokes[k], name)
-            if values is None:
-                out[rows] = np.nan
-                continue
-            src = self.points[k]
-            d = np.hypot(*(points[rows][:, None, :] - src[None, :, :]).transpose(2, 0, 1))
-            out[rows] = values[d.argmin(axis=1)]
-        if np.isnan(out).all():
-            return None
-        return np.where(np.isnan(out), np.nanmean(out), out)
+    def _nearest(self, geoms: np.ndarray) -> np.ndarray:
+        """Index of the nearest input segment of each point. A search bounded to a small
+        radius is much quicker; the few points it leaves unmatched are searched fully."""
+        nearest = np.full(len(geoms), -1)
+        i, k = self.tree.query_nearest(geoms, max_distance=self.radius, all_matches=False)
+        nearest[i] = k
+        rest = np.flatnonzero(nearest < 0)
+        if len(rest):
+            i, k = self.tree.query_nearest(geoms[rest], all_matches=False)
+            nearest[rest[i]] = k
+        return nearest
+
+    def transfer(self, strokes: list[np.ndarray]) -> list[tuple]:
+        """For each polyline: width and pressure per point, style, ids of the input strokes.
+
+        One nearest-neighbour query serves all polylines at once.
+        """
+        if not strokes:
+            return []
+        counts = [len(p) for p in strokes]
+        geoms = shapely.points(np.concatenate(strokes))
+        segment = self._nearest(geoms)
+        nearest = self.segment_stroke[segment]
+        start = self.segment_start[segment]
+        where = self.running[start] + shapely.line_locate_point(self.segments[segment], geoms)
+        cuts = np.cumsum(counts)[:-1]
+        split = {name: [None] * len(strokes) if v is None else
+                 np.split(np.interp(where, self.running, v), cuts)
+                 for name, v in self.values.items()}
+        out = []
+        for k, near in enumerate(np.split(nearest, cuts)):
+            per_point = []
+            for name in ("width", "pressure"):
+                v = split[name][k]
+                per_point.append(None if v is None or np.isnan(v).all() else
+                                 np.where(np.isnan(v), np.nanmean(v), v))
+            used = np.unique(near).tolist()
+            ids = tuple(sorted({self.strokes[i].source_id if self.strokes[i].source_id
+                                is not None else i for i in used}))
+            styles = Counter(self.strokes[i].style for i in near.tolist()
+                             if self.strokes[i].style is not None)
+            out.append((per_point[0], per_point[1],
+                        styles.most_common(1)[0][0] if styles else None, ids))
+        return out

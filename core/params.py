@@ -24,7 +24,8 @@ class SimplifyParams:
     angle         largest tangent angle, in degrees, between curves that may merge (d_theta)
     join_angle    largest turn, in degrees, where two output edges join into one stroke
     corner_angle  turns sharper than this, in degrees, stay corners of the fitted Beziers
-    fit_error     largest distance of a fitted Bezier from its polyline, as a fraction of D
+    fit_error     largest distance of a fitted Bezier from its polyline, as a fraction of
+                  d_eps = alpha * D (the bundle width sets how exact the fit need be)
     target_patches, target_curves   optional: also stop once this few remain
     """
 
@@ -36,7 +37,7 @@ class SimplifyParams:
     angle: float = 30.0
     join_angle: float = 40.0
     corner_angle: float = 50.0
-    fit_error: float = 0.002
+    fit_error: float = 1 / 6
     target_patches: int | None = None
     target_curves: int | None = None
 
@@ -58,7 +59,7 @@ class SimplifyParams:
         check(0 <= self.gamma <= 1, f"gamma must be in [0, 1], got {self.gamma}")
         for name in ("angle", "join_angle", "corner_angle"):
             check(0 <= getattr(self, name) <= 180, f"{name} must be 0 to 180 degrees")
-        check(0 < self.fit_error <= 0.1, f"fit_error must be in (0, 0.1], got {self.fit_error}")
+        check(0 < self.fit_error <= 1, f"fit_error must be in (0, 1], got {self.fit_error}")
         for name in ("target_patches", "target_curves"):
             value = getattr(self, name)
             check(value is None or (isinstance(value, int) and value >= 0),

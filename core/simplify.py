@@ -34,6 +34,7 @@ class SimplifyResult:
     stats: AgglomerationStats | None = None
     _input: Sketch | None = field(default=None, repr=False)
     _ink: NearestInk | None = field(default=None, repr=False)
+    _fits: dict = field(default_factory=dict, repr=False)  # Bezier fits shared by .at()
 
     def to_sketch(self) -> Sketch:
         src = self._input
@@ -57,7 +58,7 @@ class SimplifyResult:
         history = self.history[:state.merges_applied]
         timings = {"replay": time.perf_counter() - t0}
         return _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
-                       state, history, params, None, timings)
+                       state, history, params, None, timings, self._fits)
 
     def regions(self) -> list[shapely.Polygon]:
         """The patches left, as polygons in input coordinates (what a fill can use)."""
@@ -77,13 +78,13 @@ def _counts(nodes: int, curves: int, patches: int, strokes: int) -> dict[str, in
 def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normalisation,
             cx: BaseComplex, state: ComplexState, history: list[Merge],
             params: SimplifyParams, stats: AgglomerationStats | None,
-            timings: dict[str, float]) -> SimplifyResult:
+            timings: dict[str, float], fits: dict | None = None) -> SimplifyResult:
     t0 = time.perf_counter()
-    fitted = to_strokes(state, params)
+    fits = {} if fits is None else fits
+    fitted = to_strokes(state, params, fits)
     t1 = time.perf_counter()
     strokes = []
-    for f in fitted:
-        width, pressure, style, ids = ink.transfer(f.points)
+    for f, (width, pressure, style, ids) in zip(fitted, ink.transfer([f.points for f in fitted])):
         strokes.append(Stroke(norm.from_unit(f.points), width=width, pressure=pressure,
                               style=style, bezier=norm.from_unit(f.bezier), closed=f.closed,
                               sources=ids))
@@ -94,7 +95,7 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
         "after": _counts(nodes_after, state.num_curves, state.num_patches, len(strokes)),
     }
     return SimplifyResult(strokes, params, cx, state, history, norm, cleaning, counts, timings,
-                          stats, sketch, ink)
+                          stats, sketch, ink, fits)
 
 
 def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyResult:

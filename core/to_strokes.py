@@ -29,7 +29,7 @@ from .bezier import corner_indices, fit_bezier, sample
 from .complex_state import ComplexState
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance
-from .geometry import arc_lengths, lines_from, split_coordinates
+from .geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
 from .noding import GRID
 from .params import SimplifyParams
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_direction, rebuild
@@ -293,10 +293,16 @@ def split_at_tips(chains: list[Edge], d_eps: float) -> list[Edge]:
     return out
 
 
-def to_strokes(state: ComplexState, params: SimplifyParams) -> list[FittedStroke]:
-    """Output strokes (unit frame) of a simplified complex."""
+def to_strokes(state: ComplexState, params: SimplifyParams,
+               fits: dict[bytes, np.ndarray] | None = None) -> list[FittedStroke]:
+    """Output strokes (unit frame) of a simplified complex.
+
+    ``fits`` caches Bezier fits by polyline: results replayed at other epsilons (a slider)
+    share most strokes, and fitting is the costliest step here.
+    """
     d_eps = params.alpha
     snap = d_eps / 2
+    fits = {} if fits is None else fits
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
     edges = merge_bi_edges(split_at_tips(chains, d_eps), params)
     graph = build_graph(renode(edges), snap)
@@ -306,7 +312,12 @@ def to_strokes(state: ComplexState, params: SimplifyParams) -> list[FittedStroke
     for stroke in join_edges(graph, params):
         if arc_lengths(stroke.points)[-1] <= 0:
             continue
-        bez = fit_bezier(stroke.points, params.fit_error, params.corner_angle,
-                         closed=stroke.closed)
-        out.append(FittedStroke(sample(bez, 12), bez, stroke.closed))
+        # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
+        # points where the input was dense
+        pts = resample_polyline(stroke.points, d_eps / 4)
+        key = pts.tobytes() + (b"c" if stroke.closed else b"o")
+        if key not in fits:
+            fits[key] = fit_bezier(pts, params.fit_error * d_eps, params.corner_angle,
+                                   closed=stroke.closed)
+        out.append(FittedStroke(sample(fits[key], 12), fits[key], stroke.closed))
     return out
