@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from .components import component_labels
 from .geometry import polygons_from
 from .noding import GRID, node_strokes
 
@@ -102,23 +103,6 @@ def _shoelace(curves: list[np.ndarray]) -> np.ndarray:
     owner = np.repeat(np.arange(len(curves)), counts)[:-1]
     same = owner == np.repeat(np.arange(len(curves)), counts)[1:]
     return 0.5 * np.bincount(owner[same], weights=cross[same], minlength=len(curves))
-
-
-def _components(num_nodes: int, edges: np.ndarray) -> np.ndarray:
-    parent = list(range(num_nodes))
-
-    def find(a: int) -> int:
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
-    for a, b in edges.tolist():
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(a) for a in range(num_nodes)], dtype=np.intp)
-    return np.unique(roots, return_inverse=True)[1]
 
 
 def _next_half_edges(curves: list[np.ndarray], curve_nodes: np.ndarray) -> np.ndarray:
@@ -214,7 +198,7 @@ def build_base_complex(strokes: list[np.ndarray], grid: float = GRID) -> BaseCom
     half_area = np.stack([area_of_curve, -area_of_curve], axis=1).ravel()
     face_area = np.bincount(face_of, weights=half_area, minlength=len(cycles))
 
-    node_component = _components(len(nodes), curve_nodes)
+    node_component = component_labels(len(nodes), curve_nodes)
     num_components = int(node_component.max()) + 1
     face_component = node_component[curve_nodes.ravel()[[c[0] for c in cycles]]]
     by_component_then_area = np.lexsort((face_area, face_component))

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
+from .components import component_labels
 from .geometry import arc_lengths
 
 
@@ -37,22 +38,9 @@ class StrokeGraph:
 
 def _clusters(points: np.ndarray, radius: float) -> np.ndarray:
     """Label points so that any two within ``radius`` share a label (single linkage)."""
-    parent = np.arange(len(points))
-
-    def find(a: int) -> int:
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
     geoms = shapely.points(points)
     i, j = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=radius)
-    for a, b in zip(i.tolist(), j.tolist()):
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(a) for a in range(len(points))])
-    return np.unique(roots, return_inverse=True)[1]
+    return component_labels(len(points), np.stack([i, j], axis=1))
 
 
 def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:

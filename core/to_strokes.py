@@ -26,6 +26,7 @@ import numpy as np
 import shapely
 
 from .bezier import corner_indices, fit_bezier, sample
+from .components import component_labels
 from .complex_state import ComplexState
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance
@@ -182,31 +183,18 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
              & (a != b))
     if not short.any():
         return graph
-    parent = np.arange(len(graph.nodes))
-
-    def find(x: int) -> int:
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for k in np.flatnonzero(short).tolist():
-        ra, rb = find(int(a[k])), find(int(b[k]))
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    root = np.array([find(x) for x in range(len(graph.nodes))])
+    root = component_labels(len(graph.nodes), graph.ends[short])
     centre = np.zeros_like(graph.nodes)
     np.add.at(centre, root, graph.nodes)
     centre /= np.maximum(np.bincount(root, minlength=len(root)), 1)[:, None]
     ends = root[graph.ends]
-    keep = ~short | (ends[:, 0] != ends[:, 1])
     for k, e in enumerate(graph.edges):
         pts = e.points.copy()
         pts[0], pts[-1] = centre[ends[k, 0]], centre[ends[k, 1]]
         e.points = pts
     graph.ends = ends
     graph.nodes = centre
-    return rebuild(graph, keep & ~(short & (ends[:, 0] == ends[:, 1])))
+    return rebuild(graph, ~short | (ends[:, 0] != ends[:, 1]))
 
 
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True
