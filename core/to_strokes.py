@@ -26,8 +26,8 @@ import numpy as np
 import shapely
 
 from .bezier import corner_indices, fit_bezier, sample
-from .components import component_labels
 from .complex_state import ComplexState
+from .components import component_labels
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance
 from .geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
