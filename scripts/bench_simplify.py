@@ -7,7 +7,7 @@ or reference curves for lift3d_opensketch), coverage of the input ink within 1% 
 canvas diagonal, mean distance of the output to the ink (px), F-score against the
 ``full_fit.scap`` reference at 1% of the diagonal, and seconds. Then the medians, and time
 against size on synthetic sketches of 100, 1,000 and 10,000 strokes with the fitted
-growth exponent.
+growth exponent. ``at ms`` is the time of ``result.at(epsilon / 2)``, what a slider costs.
 """
 
 from __future__ import annotations
@@ -45,6 +45,9 @@ def score(path: Path, params: SimplifyParams) -> dict:
     t0 = time.perf_counter()
     result = simplify(sketch, params)
     seconds = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    result.at(params.epsilon / 2)  # what a slider does: replay the history at another epsilon
+    at_ms = 1e3 * (time.perf_counter() - t0)
     n_intended, reference = intended_curves(path, sketch)
     diag = float(np.hypot(sketch.width or 0, sketch.height or 0)) or result.normalisation.scale
     tol = 0.01 * diag
@@ -54,7 +57,7 @@ def score(path: Path, params: SimplifyParams) -> dict:
         "strokes_in": len(sketch.strokes), "strokes_out": len(out),
         "intended": n_intended, "per_intended": len(out) / max(n_intended, 1),
         "coverage": coverage(ink, out, tol), "fidelity_px": fidelity(out, ink),
-        "seconds": seconds, "patches": result.counts["before"]["patches"],
+        "seconds": seconds, "at_ms": at_ms, "patches": result.counts["before"]["patches"],
     }
     if reference is not None:
         row["f_score"] = precision_recall_f(out, reference, tol)[2]
@@ -110,7 +113,7 @@ def main() -> int:
         print(f"no sketches found under {args.data}: skipping the real-sketch benchmark")
     rows = {}
     head = f"{'sketch':44s} {'in':>5s} {'out':>5s} {'int':>5s} {'out/int':>7s} {'cover':>6s} " \
-           f"{'fid px':>6s} {'F':>5s} {'s':>6s}"
+           f"{'fid px':>6s} {'F':>5s} {'s':>6s} {'at ms':>6s}"
     if files:
         print(head)
     for path in files:
@@ -120,7 +123,8 @@ def main() -> int:
         f = f"{row['f_score']:.3f}" if "f_score" in row else "  -  "
         print(f"{name[:44]:44s} {row['strokes_in']:5d} {row['strokes_out']:5d} "
               f"{row['intended']:5d} {row['per_intended']:7.2f} {row['coverage']:6.3f} "
-              f"{row['fidelity_px']:6.2f} {f:>5s} {row['seconds']:6.2f}", flush=True)
+              f"{row['fidelity_px']:6.2f} {f:>5s} {row['seconds']:6.2f} {row['at_ms']:6.0f}",
+              flush=True)
     if rows:
         def med(key):
             vals = [r[key] for r in rows.values() if key in r]
@@ -129,7 +133,8 @@ def main() -> int:
               f"(input {np.median([r['strokes_in'] / r['intended'] for r in rows.values()]):.2f}), "
               f"coverage {med('coverage'):.3f}, fidelity {med('fidelity_px'):.2f} px, "
               f"F {med('f_score'):.3f}, seconds {med('seconds'):.2f} "
-              f"(largest {max(r['seconds'] for r in rows.values()):.2f})")
+              f"(largest {max(r['seconds'] for r in rows.values()):.2f}), "
+              f"replay at epsilon/2 {med('at_ms'):.0f} ms")
         print(f"worst coverage {min(r['coverage'] for r in rows.values()):.3f}")
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
