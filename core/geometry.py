@@ -32,10 +32,6 @@ def split_coordinates(geoms: np.ndarray) -> list[np.ndarray]:
     return np.split(coords, cuts) if len(coords) else []
 
 
-def polyline_length(points: np.ndarray) -> float:
-    return float(np.hypot(*np.diff(points, axis=0).T).sum())
-
-
 def arc_lengths(points: np.ndarray) -> np.ndarray:
     """Cumulative arc length at each point, starting at 0."""
     return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])

@@ -1,0 +1,99 @@
+"""Parts of the agglomeration checked against slower, obvious versions of themselves."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from core import build_base_complex
+from core.complex_state import ComplexState
+from core.geometry import lines_from
+from core.guard import DistanceGuard
+from core.patch_rings import (
+    Outline,
+    RingGeometry,
+    half_edges,
+    union_outline_points,
+    union_rings,
+)
+
+
+def grid(n: int = 4, wobble: float = 0.0, seed: int = 0) -> list[np.ndarray]:
+    """n + 1 horizontal and n + 1 vertical overshooting lines: n * n square faces."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(-0.05, 1.05, 30)
+    lines = []
+    for k in np.linspace(0, 1, n + 1):
+        off = wobble * rng.normal(size=len(t))
+        lines.append(np.stack([t, k + off], axis=1))
+        lines.append(np.stack([k + off, t], axis=1))
+    return lines
+
+
+@pytest.mark.parametrize("wobble", [0.0, 0.01])
+def test_quick_union_outline_equals_the_general_union(wobble):
+    cx = build_base_complex(grid(4, wobble))
+    geometry = RingGeometry(cx)
+    state = ComplexState(cx)
+    rings = [[half_edges(p.boundary)] + [half_edges(h) for h in p.holes] for p in cx.patches]
+    checked = 0
+    for p in range(cx.num_patches):
+        for q in range(p + 1, cx.num_patches):
+            shared = state.shared_curves(p, q)
+            if not shared:
+                continue
+            quick = union_outline_points(Outline(rings[p][0], geometry),
+                                         Outline(rings[q][0], geometry), shared)
+            general = geometry.points(union_rings(rings[p], rings[q], shared, geometry)[0])
+            assert quick is not None
+            a, b = shapely.Polygon(quick), shapely.Polygon(general)
+            assert a.is_valid and a.area == pytest.approx(b.area)
+            assert a.equals(b)
+            checked += 1
+    assert checked == 2 * 4 * 3  # every pair of faces side by side
+
+
+def test_union_of_patches_sharing_two_runs_leaves_a_hole():
+    # a ring of four faces around a central one: merging two opposite halves that meet
+    # on both sides encloses the centre
+    outer = np.array([[0, 0], [3, 0], [3, 3], [0, 3], [0, 0]], float)
+    inner = np.array([[1, 1], [2, 1], [2, 2], [1, 2], [1, 1]], float)
+    cut = [np.array([[1.5, -0.5], [1.5, 1]]), np.array([[1.5, 2], [1.5, 3.5]])]
+    cx = build_base_complex([outer, inner, *cut])
+    geometry = RingGeometry(cx)
+    state = ComplexState(cx)
+    rings = [[half_edges(p.boundary)] + [half_edges(h) for h in p.holes] for p in cx.patches]
+    halves = [p for p in range(cx.num_patches) if cx.patches[p].area > 1.5]
+    assert len(halves) == 2
+    p, q = halves
+    shared = state.shared_curves(p, q)
+    assert union_outline_points(Outline(rings[p][0], geometry), Outline(rings[q][0], geometry),
+                                shared) is None  # two runs: the quick path declines
+    united = union_rings(rings[p], rings[q], shared, geometry)
+    assert len(united) == 2  # an outer ring and the hole around the centre
+    assert geometry.area(united[0]) == pytest.approx(9.0)
+    assert geometry.area(united[1]) == pytest.approx(-1.0)
+
+
+def brute_covered(samples, curves, removed, allowed, d_eps):
+    pts = np.concatenate([samples[c] for c in removed])
+    line = shapely.union_all(lines_from([curves[c] for c in allowed]))
+    return shapely.distance(shapely.points(pts), line).max() <= d_eps
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_guard_agrees_with_brute_force(seed):
+    rng = np.random.default_rng(seed)
+    curves = [np.cumsum(rng.normal(0, 0.01, (12, 2)), axis=0) + rng.uniform(0, 0.1, 2)
+              for _ in range(25)]
+    d_eps = 0.02
+    guard = DistanceGuard(curves, lines_from(curves), d_eps)
+    for _ in range(60):
+        removed = sorted(rng.choice(25, size=rng.integers(1, 3), replace=False).tolist())
+        allowed = set(rng.choice(25, size=rng.integers(1, 6), replace=False).tolist())
+        allowed -= set(removed)
+        if not allowed:
+            continue
+        expected = brute_covered(guard.samples, curves, removed, allowed, d_eps)
+        assert guard.covered(removed, allowed) == expected
