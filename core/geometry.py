@@ -38,9 +38,11 @@ def arc_lengths(points: np.ndarray) -> np.ndarray:
 
 
 def resample_polyline(points: np.ndarray, spacing: float) -> np.ndarray:
-    """Points evenly spaced by arc length (at most ``spacing`` apart), ends kept."""
+    """Points evenly spaced by arc length (at most ``spacing`` apart), ends kept; a closed
+    polyline keeps at least four, so that it stays a loop however short."""
     s = arc_lengths(points)
-    n = max(2, int(np.ceil(s[-1] / spacing)) + 1)
+    closed = len(points) > 2 and bool((points[0] == points[-1]).all())
+    n = max(4 if closed else 2, int(np.ceil(s[-1] / spacing)) + 1)
     t = np.linspace(0.0, s[-1], n)
     return np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
 

@@ -298,7 +298,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     graph = contract_short_edges(graph, d_eps, params.beta)
     out = []
     for stroke in join_edges(graph, params):
-        if arc_lengths(stroke.points)[-1] <= 0:
+        if arc_lengths(stroke.points)[-1] <= GRID:  # a crumb below the snapping grid
             continue
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
