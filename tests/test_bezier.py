@@ -57,3 +57,14 @@ def test_fits_never_blow_up(raw, tol):
     # ... and the curve does not wander off between them
     length = np.hypot(*np.diff(pts, axis=0).T).sum()
     assert distance_to(sample(ctrl, 64), pts).max() <= 0.5 * length + 1e-9
+
+
+def test_a_closed_loop_shorter_than_the_spacing_stays_a_loop():
+    """Regression (a real design sketch crashed): resampling a short closed stroke gave two
+    equal points, and the fit refused them."""
+    t = np.linspace(0, 2 * np.pi, 9)
+    loop = np.stack([0.001 * np.cos(t), 0.001 * np.sin(t)], axis=1)
+    pts = resample_polyline(loop, 0.003)
+    assert len(pts) >= 4 and np.hypot(*np.diff(pts, axis=0).T).min() > 0
+    ctrl = fit_bezier(pts, 1e-4, closed=True)
+    np.testing.assert_allclose(ctrl[0], ctrl[-1])

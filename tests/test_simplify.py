@@ -227,11 +227,13 @@ def test_real_sketches_get_simpler_and_keep_their_ink():
 
 
 def test_tiny_loops_and_crumbs_do_not_break_the_fit():
-    """Regression: a closed loop shorter than the fit spacing resampled to two equal points."""
-    t = np.linspace(0, 2 * np.pi, 9)
-    tiny_loop = np.stack([50 + 0.02 * np.cos(t), 50 + 0.02 * np.sin(t)], axis=1)
-    sketch = Sketch([Stroke(wobbly((0, 0), (100, 0), 0.0)), Stroke(wobbly((0, 100), (100, 100),
-                     0.0)), Stroke(tiny_loop), Stroke([[20, 50], [20.001, 50.001]])])
+    """Specks of ink (a tiny lens, a two-point crumb) next to real strokes."""
+    t = np.linspace(0, np.pi, 7)
+    upper = np.stack([50.05 + 0.05 * np.cos(t), 50 + 0.02 * np.sin(t)], axis=1)
+    lower = upper * [1, -1] + [0, 100]  # a tiny lens: two arcs between the same two points
+    sketch = Sketch([Stroke(wobbly((0, 0), (100, 0), 0.0)),
+                     Stroke(wobbly((0, 100), (100, 100), 0.0)),
+                     Stroke(upper), Stroke(lower), Stroke([[20, 50], [20.001, 50.001]])])
     result = simplify(sketch)
     assert 2 <= len(result.strokes) <= 4
     assert all(np.isfinite(s.bezier).all() for s in result.strokes)
