@@ -120,9 +120,9 @@ class Agglomerator:
         allowed = (st.patch_curves[p] | st.patch_curves[q]) - set(shared)
         if not self.guard.covered(shared, allowed):
             return INF
-        points = None
-        if len(self.rings[p]) == 1 and len(self.rings[q]) == 1:
-            points = union_outline_points(self._outline(p), self._outline(q), shared)
+        # the union's outer ring, all a descriptor needs: quick when the shared curves are
+        # one run on both outer rings (holes do not change it), else the general walk
+        points = union_outline_points(self._outline(p), self._outline(q), shared)
         if points is None:
             rings = union_rings(self.rings[p], self.rings[q], shared, self.geometry)
             if not rings:

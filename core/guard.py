@@ -22,6 +22,8 @@ class DistanceGuard:
         self.tree = shapely.STRtree(lines)
         self.samples = [resample_polyline(c, d_eps / 2) for c in curves]
         self._cover: dict[int, set[int]] = {}
+        self._near: dict[int, frozenset[int]] = {}  # curves whose box meets c's, widened
+        self._verdicts: dict[tuple, bool] = {}
 
     def cover(self, c: int) -> set[int]:
         """Base curves (other than ``c``) within d_eps of every sample of base curve ``c``."""
@@ -32,6 +34,7 @@ class DistanceGuard:
             near = near[near != c]                         # distances below decide
             d = shapely.distance(shapely.points(pts)[:, None], self.lines[near][None, :])
             self._cover[c] = set(near[d.max(axis=0) <= self.d_eps].tolist())
+            self._near[c] = frozenset(near.tolist())
         return self._cover[c]
 
     def covered(self, removed: list[int], allowed: set[int], extra: np.ndarray | None = None
@@ -43,7 +46,19 @@ class DistanceGuard:
         unsettled = [c for c in removed if not self.cover(c) & allowed]
         if not unsettled and extra is None:
             return True
-        pts = [self.samples[c] for c in unsettled] + ([extra] if extra is not None else [])
+        if extra is None:
+            # only allowed curves near the removed ones can matter: a verdict given for the
+            # same removed curves and the same nearby allowed curves stands
+            key = (tuple(unsettled), frozenset().union(*(self._near[c] for c in unsettled))
+                   & allowed)
+            if key not in self._verdicts:
+                self._verdicts[key] = self._measure(unsettled, key[1], None)
+            return self._verdicts[key]
+        return self._measure(unsettled, allowed, extra)
+
+    def _measure(self, removed: list[int], allowed: set[int] | frozenset[int],
+                 extra: np.ndarray | None) -> bool:
+        pts = [self.samples[c] for c in removed] + ([extra] if extra is not None else [])
         points = np.concatenate(pts)
         lo, hi = points.min(axis=0) - self.d_eps, points.max(axis=0) + self.d_eps
         cand = [c for c in self.tree.query(shapely.box(*lo, *hi)).tolist() if c in allowed]

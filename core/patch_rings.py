@@ -139,11 +139,12 @@ def _cyclic_run(positions: list[int], n: int) -> tuple[int, int] | None:
 
 
 def union_outline_points(op: Outline, oq: Outline, shared: list[int]) -> np.ndarray | None:
-    """Outer ring points of the union of two hole-free patches sharing one run of curves.
+    """Outer ring points of the union of two patches sharing one run of outer-ring curves.
 
     The union walks p's ring from where the shared run ends to where it starts, then q's
-    the same way. None when the shared curves are not one run on both outlines (the
-    general :func:`union_rings` handles those).
+    the same way; holes are left out, as they do not change the outer ring. None when the
+    shared curves are not one run on both outer rings (the general :func:`union_rings`
+    handles those).
     """
     hp = [op.pos[h] for c in shared for h in (2 * c, 2 * c + 1) if h in op.pos]
     hq = [oq.pos[h] for c in shared for h in (2 * c, 2 * c + 1) if h in oq.pos]
