@@ -69,6 +69,10 @@ def clean_sketch(sketch: Sketch) -> tuple[Sketch, CleaningReport]:
     return Sketch(out, sketch.width, sketch.height), report
 
 
+#: extents whose squares still are normal floating-point numbers
+MIN_EXTENT, MAX_EXTENT = 1e-150, 1e150
+
+
 @dataclass(frozen=True)
 class Normalisation:
     """Maps drawing coordinates to a frame whose bounding box has diagonal 1 and back."""
@@ -82,6 +86,9 @@ class Normalisation:
         diag = float(np.hypot(x1 - x0, y1 - y0))
         if not np.isfinite(diag) or diag <= 0.0:
             raise SketchError("the sketch has zero extent: every point is the same")
+        if not MIN_EXTENT <= diag <= MAX_EXTENT:
+            raise SketchError(f"the sketch's extent {diag:.3g} is outside {MIN_EXTENT:.0e} to "
+                              f"{MAX_EXTENT:.0e}, where distances cannot be measured")
         return cls((x0, y0), diag)
 
     def to_unit(self, points: np.ndarray) -> np.ndarray:

@@ -46,6 +46,9 @@ def test_normalisation_maps_to_unit_diagonal_and_back():
     np.testing.assert_allclose(norm.from_unit(strokes[0]), sketch.strokes[0].points)
     with pytest.raises(SketchError, match="zero extent"):
         Normalisation.of(Sketch([Stroke([[1, 1], [1, 1]])]))
+    for extent in (2e-308, 1e200):  # found by the random-sketch test: subnormal extents
+        with pytest.raises(SketchError, match="cannot be measured"):
+            Normalisation.of(Sketch([Stroke([[0, 0], [0, extent]])]))
 
 
 @pytest.mark.parametrize("scale", [1e9, 1e-9, 1.0])

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 import shapely
 from helpers import ROOT, SAMPLES, require_data
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from test_base_complex import overshooting_side, short_crossing
 
 from core import Sketch, SketchError, Stroke, read_sketch, simplify
@@ -237,3 +239,24 @@ def test_tiny_loops_and_crumbs_do_not_break_the_fit():
     result = simplify(sketch)
     assert 2 <= len(result.strokes) <= 4
     assert all(np.isfinite(s.bezier).all() for s in result.strokes)
+
+
+coord = st.floats(0, 100, allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.lists(st.tuples(coord, coord), min_size=2, max_size=8), min_size=1,
+                max_size=14))
+def test_random_sketches_simplify_without_straying_from_the_ink(raw):
+    strokes = [np.array(s, dtype=float) for s in raw]
+    try:
+        result = simplify(Sketch([Stroke(s) for s in strokes]))
+    except SketchError:
+        return  # nothing drawable (every stroke a point): a clear error is the answer
+    d_eps = result.params.alpha * result.normalisation.scale
+    assert result.strokes
+    out = np.concatenate([s.points for s in result.strokes])
+    assert np.isfinite(out).all()
+    ink = shapely.union_all(lines_from([s for s in strokes if np.ptp(s, axis=0).max() > 0]))
+    with np.errstate(invalid="ignore", under="ignore"):  # GEOS on 1e-200 coordinates
+        assert shapely.distance(shapely.points(out), ink).max() <= 2 * d_eps
