@@ -3,12 +3,17 @@ PYTHON ?= python3.11
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
+# Blender as a Python module: 5.0 in .venv, 4.5 LTS in a second environment
+BPY ?= 5.0.1
+BPY45 ?= 4.5.15
+VENV45 := .venv-bpy45
+STAMP45 := $(VENV45)/.installed
 
 .PHONY: help venv test lint demo benchmark clean
 
 help:
 	@echo "make demo       set up, then simplify a bundled sample sketch into out/"
-	@echo "make test       set up, then run the whole test suite"
+	@echo "make test       set up, then run the whole test suite (add-on on Blender 5.0 and 4.5)"
 	@echo "make benchmark  timings and quality scores over ../shared/data"
 	@echo "make lint       ruff"
 
@@ -16,13 +21,21 @@ $(STAMP): pyproject.toml
 	@command -v $(PYTHON) >/dev/null || { echo "Python 3.11 is needed (set PYTHON=...)"; exit 1; }
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[dev]"
+	$(PY) -m pip install --quiet -e ".[dev]" "bpy==$(BPY)"
 	touch $(STAMP)
+
+$(STAMP45): pyproject.toml
+	@command -v $(PYTHON) >/dev/null || { echo "Python 3.11 is needed (set PYTHON=...)"; exit 1; }
+	test -x $(VENV45)/bin/python || $(PYTHON) -m venv $(VENV45)
+	$(VENV45)/bin/python -m pip install --quiet --upgrade pip
+	$(VENV45)/bin/python -m pip install --quiet -e ".[dev]" "bpy==$(BPY45)"
+	touch $(STAMP45)
 
 venv: $(STAMP)
 
-test: $(STAMP)
+test: $(STAMP) $(STAMP45)
 	$(PY) -m pytest
+	$(VENV45)/bin/python -m pytest tests/test_addon.py
 
 lint: $(STAMP)
 	$(PY) -m ruff check core tests scripts
@@ -35,4 +48,4 @@ benchmark: $(STAMP)
 	$(PY) scripts/bench_simplify.py
 
 clean:
-	rm -rf $(VENV) dist out reports .pytest_cache .hypothesis
+	rm -rf $(VENV) $(VENV45) dist out reports .pytest_cache .hypothesis

@@ -1,19 +1,27 @@
-"""Blender glue: reads Grease Pencil / curve strokes into plain numpy data, runs ``core``,
-writes the result back. Its operator and panel are tracked as their own issue; until they
-land, registering the extension adds nothing to Blender's interface."""
+"""Blender glue: reads Grease Pencil strokes into plain numpy data, runs ``core``, writes
+the result back. Only this package imports bpy; ``register``/``unregister`` may be called
+repeatedly (reloading the add-on)."""
 
-CLASSES: tuple[type, ...] = ()
+from __future__ import annotations
+
+import bpy
+
+from .operators import SKETCHSIMP_OT_simplify
+from .panel import SKETCHSIMP_PT_panel, SketchSimpSettings
+
+CLASSES = (SketchSimpSettings, SKETCHSIMP_OT_simplify, SKETCHSIMP_PT_panel)
 
 
 def register() -> None:
-    import bpy
-
+    unregister()  # registering again (a reload) replaces what is there
     for cls in CLASSES:
         bpy.utils.register_class(cls)
+    bpy.types.Scene.sketchsimp = bpy.props.PointerProperty(type=SketchSimpSettings)
 
 
 def unregister() -> None:
-    import bpy
-
+    if hasattr(bpy.types.Scene, "sketchsimp"):
+        del bpy.types.Scene.sketchsimp
     for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+        if cls.is_registered:
+            bpy.utils.unregister_class(cls)

@@ -1,0 +1,97 @@
+"""Between Grease Pencil drawings and the core's plain sketches.
+
+Strokes live in 3D layer space; the core works in 2D. Each drawing is projected onto its
+own best-fit plane (the two main axes of its points: the X-Z plane for a front-view
+drawing) and the result is lifted back onto the same plane, so no transform is involved.
+Width comes from the stroke radius; material, opacity and vertex colour of an output
+stroke come from the input strokes it was made from.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import Sketch, Stroke
+from ..core.sketch import SketchError
+from .gp_io import DrawingData, NewStrokes
+
+#: Bezier segments are sampled this finely by the core (see core.to_strokes)
+SAMPLES_PER_SEGMENT = 12
+
+
+@dataclass(frozen=True)
+class Plane:
+    centre: np.ndarray  # (3,)
+    axes: np.ndarray  # (2, 3), orthonormal
+
+    def to_2d(self, points: np.ndarray) -> np.ndarray:
+        return (points - self.centre) @ self.axes.T
+
+    def to_3d(self, points: np.ndarray) -> np.ndarray:
+        return (self.centre + points @ self.axes).astype(np.float32)
+
+
+def drawing_plane(positions: np.ndarray) -> Plane:
+    """The plane through the points' centre spanned by their two main directions."""
+    pts = np.asarray(positions, dtype=np.float64)
+    centre = pts.mean(axis=0)
+    _, sv, vt = np.linalg.svd(pts - centre, full_matrices=False)
+    if len(sv) < 2 or sv[1] <= 1e-12 * max(sv[0], 1e-300):
+        return Plane(centre, np.array([[1.0, 0, 0], [0, 0, 1.0]]))  # a line: use X-Z
+    return Plane(centre, vt[:2])
+
+
+def to_sketch(data: DrawingData, strokes: list[int], plane: Plane) -> Sketch:
+    """The chosen strokes of a drawing as a 2D core sketch; ``source_id`` is the index."""
+    slices = data.stroke_slices()
+    out = []
+    for k in strokes:
+        pts = data.positions[slices[k]]
+        if data.cyclic[k] and len(pts) > 2:
+            pts = np.concatenate([pts, pts[:1]])
+            radius = np.concatenate([data.radius[slices[k]], data.radius[slices[k]][:1]])
+        else:
+            radius = data.radius[slices[k]]
+        out.append(Stroke(plane.to_2d(pts), width=radius, source_id=k,
+                          style=str(int(data.material_index[k]))))
+    if not out:
+        raise SketchError("no strokes to simplify")
+    return Sketch(out)
+
+
+def _handles(bezier: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    knots, right, left = bezier[::3], bezier[1::3], bezier[2::3]
+    if closed:  # the last knot repeats the first: drop it, wrap the handles round
+        knots = knots[:-1]
+        return knots, np.concatenate([left[-1:], left[:-1]]), right
+    return (knots, np.concatenate([2 * knots[:1] - right[:1], left]),
+            np.concatenate([right, 2 * knots[-1:] - left[-1:]]))
+
+
+def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane) -> NewStrokes:
+    """Output strokes as Bezier knots and handles on the plane, with attributes."""
+    slices = data.stroke_slices()
+    knots, lefts, rights, radii, opacity, colours, materials, cyclic = ([] for _ in range(8))
+    for s in result_strokes:
+        k, hl, hr = _handles(s.bezier, s.closed)
+        knots.append(plane.to_3d(k))
+        lefts.append(plane.to_3d(hl))
+        rights.append(plane.to_3d(hr))
+        at_knots = np.arange(len(k)) * SAMPLES_PER_SEGMENT
+        width = s.width if s.width is not None else np.full(len(s.points), 0.01)
+        radii.append(width[np.minimum(at_knots, len(width) - 1)].astype(np.float32))
+        src = list(s.sources) or [0]
+        src_points = np.concatenate([np.arange(slices[i].start, slices[i].stop) for i in src])
+        opacity.append(np.full(len(k), data.opacity[src_points].mean(), np.float32))
+        if data.vertex_color is not None:
+            colours.append(np.repeat(data.vertex_color[src_points].mean(axis=0)[None],
+                                     len(k), axis=0).astype(np.float32))
+        material = Counter(int(data.material_index[i]) for i in src).most_common(1)[0][0]
+        materials.append(int(s.style) if s.style is not None else material)
+        cyclic.append(bool(s.closed))
+    return NewStrokes(knots, lefts, rights, radii, opacity,
+                      colours if data.vertex_color is not None else None,
+                      np.array(materials, np.int32), np.array(cyclic, bool))

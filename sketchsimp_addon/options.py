@@ -1,0 +1,55 @@
+"""The options shared by the operator (its redo panel) and the sidebar panel's settings."""
+
+from __future__ import annotations
+
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
+
+from ..core import SimplifyParams
+
+DEFAULTS = SimplifyParams()
+
+SCOPE_ITEMS = [
+    ("CURRENT", "Current Frame", "Simplify the drawing shown at the current frame"),
+    ("ALL", "All Keyframes", "Simplify every keyframe's drawing (shared drawings once)"),
+    ("SELECTED", "Selected Strokes", "Simplify only the selected strokes of the current frame"),
+]
+LAYER_ITEMS = [
+    ("ACTIVE", "Active Layer", "Only the active layer"),
+    ("VISIBLE", "Visible Layers", "Every visible, unlocked layer"),
+]
+OUTPUT_ITEMS = [
+    ("LAYER", "New Layer", "Write the result to a new layer above each source layer"),
+    ("OBJECT", "New Object", "Write the result to a new Grease Pencil object"),
+    ("REPLACE", "Replace", "Replace the source strokes in place (undo restores them)"),
+]
+
+
+class SimplifyOptions:
+    """Annotations mixed into both the operator and the scene settings."""
+
+    epsilon: FloatProperty(
+        name="Epsilon", default=DEFAULTS.epsilon, min=0.0, soft_max=0.06, precision=3,
+        step=0.1, description="How far to simplify: the largest change of shape a merge may "
+        "make (0 keeps every stroke; 0.01 to 0.03 suits most sketches)")
+    scope: EnumProperty(name="Scope", items=SCOPE_ITEMS, default="CURRENT",
+                        description="Which drawings and strokes to simplify")
+    layers: EnumProperty(name="Layers", items=LAYER_ITEMS, default="ACTIVE",
+                         description="Which layers to simplify")
+    output: EnumProperty(name="Output", items=OUTPUT_ITEMS, default="LAYER",
+                         description="Where the simplified strokes go")
+    hide_source: BoolProperty(name="Hide Source", default=True,
+                              description="Hide each source layer once its result is written "
+                              "to a new layer or object")
+    alpha: FloatProperty(
+        name="Bundle Width", default=DEFAULTS.alpha, min=0.001, max=0.2, precision=3,
+        description="Width of a bundle of rough strokes as a fraction of the drawing's size: "
+        "strokes closer than this may merge (alpha)")
+    samples: IntProperty(name="Shape Samples", default=DEFAULTS.samples, min=8, max=2048,
+                         description="Points used to compare shapes (Fourier descriptor N); "
+                         "more is finer and slower")
+    angle: FloatProperty(name="Merge Angle", default=DEFAULTS.angle, min=0.0, max=90.0,
+                         description="Largest angle, in degrees, between strokes that may merge")
+
+    def params(self) -> SimplifyParams:
+        return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha, samples=self.samples
+                              - self.samples % 2, angle=self.angle)

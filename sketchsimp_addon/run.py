@@ -1,0 +1,135 @@
+"""The simplification of one Grease Pencil object: which drawings, then write the results.
+
+Kept apart from the operator class so that the operator is only the Blender-facing shell
+(poll, report, progress) and this stays testable on its own.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core import SimplifyParams, simplify
+from ..core.sketch import SketchError
+from .convert import drawing_plane, to_new_strokes, to_sketch
+from .gp_io import grease_pencil_data, read_drawing, write_strokes
+
+
+@dataclass
+class RunReport:
+    drawings: int = 0
+    strokes_in: int = 0
+    strokes_out: int = 0
+    seconds: float = 0.0
+    skipped: list[str] = field(default_factory=list)
+
+    def message(self) -> str:
+        text = (f"Simplified {self.drawings} drawing(s): {self.strokes_in} strokes -> "
+                f"{self.strokes_out} in {self.seconds:.2f} s")
+        if self.skipped:
+            text += "; skipped " + ", ".join(self.skipped)
+        return text
+
+
+def target_layers(gp, which: str, report: RunReport) -> list:
+    """The layers to work on; locked and hidden ones are left alone and named."""
+    candidates = [gp.layers.active] if which == "ACTIVE" else list(gp.layers)
+    out = []
+    for layer in candidates:
+        if layer is None:
+            continue
+        if layer.lock or layer.hide:
+            report.skipped.append(f"layer '{layer.name}' ({'locked' if layer.lock else 'hidden'})")
+        else:
+            out.append(layer)
+    return out
+
+
+def source_frames(layer, scope: str, frame_number: int) -> list:
+    if scope == "ALL":
+        return list(layer.frames)
+    frame = layer.get_frame_at(frame_number)
+    return [frame] if frame is not None else []
+
+
+def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
+                    progress=None) -> tuple[RunReport, list]:
+    """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
+
+    Returns the report and a list of (layer, frames, data, kept strokes, new strokes):
+    a drawing shared by several keyframes is simplified once and listed with all of them.
+    """
+    report = RunReport()
+    t0 = time.perf_counter()
+    jobs: dict[int, tuple] = {}
+    for layer in target_layers(obj.data, options.layers, report):
+        for frame in source_frames(layer, options.scope, frame_number):
+            key = frame.drawing.as_pointer()
+            if key in jobs:
+                jobs[key][1].append(frame)
+            else:
+                jobs[key] = (layer, [frame])
+    results = []
+    for n, (layer, frames) in enumerate(jobs.values()):
+        data = read_drawing(frames[0].drawing)
+        chosen = [k for k in range(data.num_strokes)
+                  if options.scope != "SELECTED" or data.selected[k]]
+        chosen = [k for k in chosen if data.offsets[k + 1] - data.offsets[k] >= 2]
+        if not chosen:
+            report.skipped.append(f"an empty drawing on '{layer.name}' frame "
+                                  f"{frames[0].frame_number}")
+            continue
+        points = np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
+                                 for k in chosen])
+        plane = drawing_plane(data.positions[points])
+        try:
+            result = simplify(to_sketch(data, chosen, plane), params)
+        except SketchError as exc:
+            report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({exc})")
+            continue
+        results.append((layer, frames, data, chosen, to_new_strokes(result.strokes, data,
+                                                                    plane)))
+        report.drawings += 1
+        report.strokes_in += len(chosen)
+        report.strokes_out += len(result.strokes)
+        if progress is not None:
+            progress(n + 1)
+    report.seconds = time.perf_counter() - t0
+    return report, results
+
+
+def write_results(obj, options, results: list, context) -> object:
+    """Write the results where ``options.output`` says; returns the object written to."""
+    if options.output == "REPLACE":
+        for layer, frames, data, chosen, new in results:
+            drawing = frames[0].drawing
+            drawing.remove_strokes(indices=chosen)
+            write_strokes(drawing, new)
+        return obj
+    if options.output == "OBJECT":
+        gp = grease_pencil_data().new(obj.data.name + " simplified")
+        for mat in obj.data.materials:
+            gp.materials.append(mat)
+        target = context.blend_data.objects.new(obj.name + " simplified", gp)
+        target.matrix_world = obj.matrix_world
+        for coll in obj.users_collection:
+            coll.objects.link(target)
+    else:
+        target, gp = obj, obj.data
+    made = {}
+    for layer, frames, data, chosen, new in results:
+        if layer.name not in made:
+            dest = gp.layers.new(layer.name + " simplified", set_active=False)
+            # the same layer transform, so that the strokes land where the source's are
+            dest.translation, dest.rotation, dest.scale = (layer.translation, layer.rotation,
+                                                          layer.scale)
+            made[layer.name] = dest
+            if options.hide_source:
+                layer.hide = True
+        dest = made[layer.name]
+        for frame in frames:
+            new_frame = dest.frames.new(frame.frame_number)
+            write_strokes(new_frame.drawing, new)
+    return target

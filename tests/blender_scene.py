@@ -1,0 +1,88 @@
+"""Building Grease Pencil test scenes from the project's sample sketches (needs bpy)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+
+import bpy
+import numpy as np
+from helpers import ROOT, SAMPLES
+
+from core import read_sketch
+
+GP_DATA = bpy.data.grease_pencils_v3 if hasattr(bpy.data, "grease_pencils_v3") \
+    else bpy.data.grease_pencils
+SCALE = 0.01  # sample pixels to metres
+
+
+def load_extension():
+    """Import the repository root as the package ``sketchsimp``, the way Blender does."""
+    if "sketchsimp" in sys.modules:
+        return sys.modules["sketchsimp"]
+    spec = importlib.util.spec_from_file_location(
+        "sketchsimp", ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["sketchsimp"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def clear_scene() -> None:
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+    for gp in list(GP_DATA):
+        GP_DATA.remove(gp)
+
+
+def sample_points(name: str) -> list[np.ndarray]:
+    """A sample sketch as 3D strokes on the X-Z plane (front view), y = 0."""
+    sketch = read_sketch(SAMPLES / f"{name}.scap")
+    return [np.stack([s.points[:, 0] * SCALE, np.zeros(len(s)), -s.points[:, 1] * SCALE],
+                     axis=1).astype(np.float32) for s in sketch.strokes]
+
+
+def fill_drawing(drawing, strokes: list[np.ndarray], radius: float = 0.01) -> None:
+    if not strokes:
+        return
+    drawing.add_strokes([len(s) for s in strokes])
+    attrs = drawing.attributes
+    n = sum(len(s) for s in strokes)
+    attrs["position"].data.foreach_set("vector", np.concatenate(strokes).ravel())
+    for name, value in (("radius", radius), ("opacity", 0.9)):
+        attr = attrs.get(name) or attrs.new(name, "FLOAT", "POINT")
+        attr.data.foreach_set("value", np.full(n, value, np.float32))
+
+
+def make_object(frames: dict[int, str | None], name: str = "Sketch", layer_name: str = "Lines"):
+    """A Grease Pencil object with one layer whose keyframes hold the named samples."""
+    gp = GP_DATA.new(name)
+    ob = bpy.data.objects.new(name, gp)
+    bpy.context.scene.collection.objects.link(ob)
+    mat = bpy.data.materials.new("Ink")
+    bpy.data.materials.create_gpencil_data(mat)
+    gp.materials.append(mat)
+    layer = gp.layers.new(layer_name, set_active=True)
+    for number, sample in frames.items():
+        frame = layer.frames.new(number)
+        fill_drawing(frame.drawing, sample_points(sample) if sample else [])
+    bpy.context.view_layer.objects.active = ob
+    ob.select_set(True)
+    return ob
+
+
+def snapshot(drawing) -> dict[str, bytes]:
+    """Every attribute buffer of a drawing, as bytes, to prove it did not change."""
+    out = {}
+    attrs = drawing.attributes
+    for attr in attrs:
+        n = attrs.domain_size(attr.domain)
+        width = {"FLOAT_VECTOR": 3, "FLOAT_COLOR": 4, "BYTE_COLOR": 4}.get(attr.data_type, 1)
+        key = {"FLOAT_VECTOR": "vector", "FLOAT_COLOR": "color", "BYTE_COLOR": "color"}.get(
+            attr.data_type, "value")
+        dtype = {"INT": np.int32, "INT8": np.int8, "BOOLEAN": bool}.get(attr.data_type,
+                                                                        np.float32)
+        buf = np.empty(n * width, dtype)
+        attr.data.foreach_get(key, buf)
+        out[attr.name] = buf.tobytes()
+    return out

@@ -1,0 +1,159 @@
+"""The Blender extension on the real Blender API (the bpy wheel)."""
+
+from __future__ import annotations
+
+import bpy
+import numpy as np
+import pytest
+import shapely
+from blender_scene import (
+    SCALE,
+    clear_scene,
+    load_extension,
+    make_object,
+    sample_points,
+    snapshot,
+)
+
+from core.geometry import lines_from
+
+
+@pytest.fixture(scope="module", autouse=True)
+def extension():
+    module = load_extension()
+    module.register()
+    yield module
+    module.unregister()  # Blender 4.5 hangs at exit with an operator still registered
+
+
+@pytest.fixture(autouse=True)
+def empty_scene():
+    clear_scene()
+    bpy.context.scene.frame_set(1)
+    yield
+
+
+def strokes_of(drawing) -> list[np.ndarray]:
+    attrs = drawing.attributes
+    n = attrs.domain_size("POINT")
+    pos = np.empty(n * 3, np.float32)
+    attrs["position"].data.foreach_get("vector", pos)
+    offsets = np.empty(attrs.domain_size("CURVE") + 1, np.int32)
+    drawing.curve_offsets.foreach_get("value", offsets)
+    return np.split(pos.reshape(-1, 3), offsets[1:-1])
+
+
+def evaluated(drawing, steps: int = 16) -> np.ndarray:
+    """Points along the drawing's Bezier strokes, evaluated from knots and handles."""
+    attrs = drawing.attributes
+    n = attrs.domain_size("POINT")
+
+    def vec(name):
+        buf = np.empty(n * 3, np.float32)
+        attrs[name].data.foreach_get("vector", buf)
+        return buf.reshape(-1, 3)
+
+    p, left, right = vec("position"), vec("handle_left"), vec("handle_right")
+    offsets = np.empty(attrs.domain_size("CURVE") + 1, np.int32)
+    drawing.curve_offsets.foreach_get("value", offsets)
+    cyclic = np.empty(len(offsets) - 1, bool)
+    attrs["cyclic"].data.foreach_get("value", cyclic)
+    t = np.linspace(0, 1, steps)[:, None]
+    out = []
+    for k in range(len(offsets) - 1):
+        idx = list(range(offsets[k], offsets[k + 1]))
+        for i, j in list(zip(idx[:-1], idx[1:])) + ([(idx[-1], idx[0])] if cyclic[k] else []):
+            out.append((1 - t) ** 3 * p[i] + 3 * (1 - t) ** 2 * t * right[i]
+                       + 3 * (1 - t) * t ** 2 * left[j] + t ** 3 * p[j])
+    return np.concatenate(out)
+
+
+def test_register_twice_and_operator_exists(extension):
+    extension.register()
+    assert hasattr(bpy.types, "SKETCHSIMP_OT_simplify")
+    assert hasattr(bpy.types.Scene, "sketchsimp")
+
+
+def test_current_frame_to_a_new_layer_leaves_the_source_untouched():
+    ob = make_object({1: "house"})
+    source = ob.data.layers["Lines"]
+    before = snapshot(source.frames[0].drawing)
+    assert bpy.ops.sketchsimp.simplify(epsilon=0.015) == {"FINISHED"}
+    assert snapshot(source.frames[0].drawing) == before
+    out_layer = ob.data.layers["Lines simplified"]
+    assert source.hide and not out_layer.hide
+    out = out_layer.frames[0].drawing
+    n_in, n_out = len(strokes_of(source.frames[0].drawing)), len(strokes_of(out))
+    assert 0 < n_out < n_in
+    # Bezier strokes with handles, radius and opacity written (not Blender's zero defaults)
+    attrs = out.attributes
+    types = np.empty(attrs.domain_size("CURVE"), np.int8)
+    attrs["curve_type"].data.foreach_get("value", types)
+    assert (types == 2).all()
+    radius = np.empty(attrs.domain_size("POINT"), np.float32)
+    attrs["radius"].data.foreach_get("value", radius)
+    np.testing.assert_allclose(radius, 0.01, rtol=1e-3)
+    assert "handle_left" in attrs and "handle_right" in attrs
+    # the Bezier curves (knots and handles) lie on the ink, on the drawing's plane
+    ink = shapely.union_all(lines_from([s[:, [0, 2]] for s in sample_points("house")]))
+    curve = evaluated(out)
+    np.testing.assert_allclose(curve[:, 1], 0.0, atol=1e-5)
+    assert shapely.distance(shapely.points(curve[:, [0, 2]]), ink).max() < 6 * SCALE
+    assert bpy.context.scene.sketchsimp.last_run.startswith("Simplified 1 drawing")
+
+
+def test_all_keyframes_and_a_shared_drawing():
+    ob = make_object({1: "house", 10: "cup"})
+    layer = ob.data.layers["Lines"]
+    layer.frames.copy(10, 20, instance_drawing=True)
+    assert bpy.ops.sketchsimp.simplify(scope="ALL") == {"FINISHED"}
+    out = ob.data.layers["Lines simplified"]
+    assert sorted(f.frame_number for f in out.frames) == [1, 10, 20]
+    by_frame = {f.frame_number: len(strokes_of(f.drawing)) for f in out.frames}
+    assert by_frame[10] == by_frame[20] > 0 and by_frame[1] > 0
+    assert "2 drawing(s)" in bpy.context.scene.sketchsimp.last_run  # shared: simplified once
+
+
+def test_replace_in_place():
+    ob = make_object({1: "fish"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    n_in = len(strokes_of(drawing))
+    assert bpy.ops.sketchsimp.simplify(output="REPLACE") == {"FINISHED"}
+    assert 0 < len(strokes_of(drawing)) < n_in
+    assert len(ob.data.layers) == 1
+
+
+def test_new_object_output():
+    ob = make_object({1: "cup"})
+    assert bpy.ops.sketchsimp.simplify(output="OBJECT", hide_source=False) == {"FINISHED"}
+    made = bpy.data.objects["Sketch simplified"]
+    assert made.type == "GREASEPENCIL" and len(made.data.materials) == 1
+    assert len(strokes_of(made.data.layers[0].frames[0].drawing)) > 0
+    assert not ob.data.layers["Lines"].hide
+
+
+def test_no_active_object_or_wrong_type_fails_poll():
+    bpy.context.view_layer.objects.active = None
+    assert not bpy.ops.sketchsimp.simplify.poll()
+    mesh = bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
+    bpy.context.scene.collection.objects.link(mesh)
+    bpy.context.view_layer.objects.active = mesh
+    assert not bpy.ops.sketchsimp.simplify.poll()
+    with pytest.raises(RuntimeError, match="poll"):
+        bpy.ops.sketchsimp.simplify()
+
+
+@pytest.mark.parametrize("case", ["empty", "one_point", "locked", "hidden"])
+def test_bad_input_reports_and_changes_nothing(case):
+    ob = make_object({1: None if case in ("empty", "one_point") else "house"})
+    layer = ob.data.layers["Lines"]
+    if case == "one_point":
+        from blender_scene import fill_drawing
+        fill_drawing(layer.frames[0].drawing, [np.zeros((1, 3), np.float32)] * 3)
+    layer.lock = case == "locked"
+    layer.hide = case == "hidden"
+    before = snapshot(layer.frames[0].drawing)
+    with pytest.raises(RuntimeError, match="Nothing to simplify"):
+        bpy.ops.sketchsimp.simplify()
+    assert len(ob.data.layers) == 1
+    assert snapshot(layer.frames[0].drawing) == before
