@@ -14,7 +14,7 @@ import numpy as np
 from ..core import SimplifyParams, simplify
 from ..core.sketch import SketchError
 from .convert import drawing_plane, to_new_strokes, to_sketch
-from .gp_io import grease_pencil_data, read_drawing, write_strokes
+from .gp_io import NewStrokes, grease_pencil_data, read_drawing, write_strokes
 
 
 @dataclass
@@ -31,6 +31,16 @@ class RunReport:
         if self.skipped:
             text += "; skipped " + ", ".join(self.skipped)
         return text
+
+
+@dataclass
+class DrawingResult:
+    """One simplified drawing: where it came from and what replaces it."""
+
+    layer: object
+    frames: list  # every keyframe showing the drawing
+    chosen: list[int]  # the strokes simplified
+    new: NewStrokes
 
 
 def target_layers(gp, which: str, report: RunReport) -> list:
@@ -55,11 +65,10 @@ def source_frames(layer, scope: str, frame_number: int) -> list:
 
 
 def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
-                    progress=None) -> tuple[RunReport, list]:
+                    progress=None) -> tuple[RunReport, list[DrawingResult]]:
     """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
 
-    Returns the report and a list of (layer, frames, data, kept strokes, new strokes):
-    a drawing shared by several keyframes is simplified once and listed with all of them.
+    A drawing shared by several keyframes is simplified once, listed with all of them.
     """
     report = RunReport()
     t0 = time.perf_counter()
@@ -89,8 +98,8 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         except SketchError as exc:
             report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({exc})")
             continue
-        results.append((layer, frames, data, chosen, to_new_strokes(result.strokes, data,
-                                                                    plane)))
+        results.append(DrawingResult(layer, frames, chosen,
+                                     to_new_strokes(result.strokes, data, plane)))
         report.drawings += 1
         report.strokes_in += len(chosen)
         report.strokes_out += len(result.strokes)
@@ -100,13 +109,13 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     return report, results
 
 
-def write_results(obj, options, results: list, context) -> object:
+def write_results(obj, options, results: list[DrawingResult], context) -> object:
     """Write the results where ``options.output`` says; returns the object written to."""
     if options.output == "REPLACE":
-        for layer, frames, data, chosen, new in results:
-            drawing = frames[0].drawing
-            drawing.remove_strokes(indices=chosen)
-            write_strokes(drawing, new)
+        for r in results:
+            drawing = r.frames[0].drawing
+            drawing.remove_strokes(indices=r.chosen)
+            write_strokes(drawing, r.new)
         return obj
     if options.output == "OBJECT":
         gp = grease_pencil_data().new(obj.data.name + " simplified")
@@ -119,7 +128,8 @@ def write_results(obj, options, results: list, context) -> object:
     else:
         target, gp = obj, obj.data
     made = {}
-    for layer, frames, data, chosen, new in results:
+    for r in results:
+        layer = r.layer
         if layer.name not in made:
             dest = gp.layers.new(layer.name + " simplified", set_active=False)
             # the same layer transform, so that the strokes land where the source's are
@@ -129,7 +139,6 @@ def write_results(obj, options, results: list, context) -> object:
             if options.hide_source:
                 layer.hide = True
         dest = made[layer.name]
-        for frame in frames:
-            new_frame = dest.frames.new(frame.frame_number)
-            write_strokes(new_frame.drawing, new)
+        for frame in r.frames:
+            write_strokes(dest.frames.new(frame.frame_number).drawing, r.new)
     return target
