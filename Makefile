@@ -9,12 +9,13 @@ BPY45 ?= 4.5.15
 VENV45 := .venv-bpy45
 STAMP45 := $(VENV45)/.installed
 
-.PHONY: help venv test lint demo benchmark clean
+.PHONY: help venv test lint demo benchmark extension clean
 
 help:
 	@echo "make demo       set up, then simplify a bundled sample sketch into out/"
 	@echo "make test       set up, then run the whole test suite (add-on on Blender 5.0 and 4.5)"
 	@echo "make benchmark  timings and quality scores over ../shared/data"
+	@echo "make extension  build dist/sketchsimp-<version>-<platform>.zip for Blender"
 	@echo "make lint       ruff"
 
 $(STAMP): pyproject.toml
@@ -38,10 +39,13 @@ test: $(STAMP) $(STAMP45)
 	$(VENV45)/bin/python -m pytest tests/test_addon.py
 
 lint: $(STAMP)
-	$(PY) -m ruff check core tests scripts
+	$(PY) -m ruff check core sketchsimp_addon tests scripts
 
 demo: $(STAMP)
 	$(PY) scripts/demo.py
+
+extension: $(STAMP)
+	$(PY) scripts/build_extension.py
 
 benchmark: $(STAMP)
 	$(PY) scripts/bench_complex.py

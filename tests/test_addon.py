@@ -157,3 +157,35 @@ def test_bad_input_reports_and_changes_nothing(case):
         bpy.ops.sketchsimp.simplify()
     assert len(ob.data.layers) == 1
     assert snapshot(layer.frames[0].drawing) == before
+
+
+def test_extension_package_installs_and_runs(tmp_path):
+    """The zip Blender's own builder makes installs, enables and works from the copy."""
+    import json
+    import os
+    import platform
+    import subprocess
+    import sys
+
+    from helpers import ROOT
+
+    build = subprocess.run([sys.executable, str(ROOT / "scripts" / "build_extension.py"),
+                            "--output-dir", str(tmp_path / "dist")],
+                           capture_output=True, text=True)
+    assert build.returncode == 0, build.stderr[-2000:]
+    arch = "arm64" if platform.machine() in ("aarch64", "arm64") else "x64"
+    package = tmp_path / "dist" / f"sketchsimp-0.1.0-linux_{arch}.zip"
+    assert package.exists()
+    env = {**os.environ, "BLENDER_USER_RESOURCES": str(tmp_path / "user"),
+           "XDG_CACHE_HOME": str(tmp_path / "cache")}
+    run = subprocess.run([sys.executable, str(ROOT / "tests" / "installed_extension.py"),
+                          str(package), str(ROOT / "tests")], capture_output=True, text=True,
+                         env=env, cwd=tmp_path, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    info = json.loads(run.stdout.strip().splitlines()[-1])
+    assert info["module"] and str(tmp_path / "user") in info["module"]
+    assert info["enabled"] == [True, True]
+    assert info["result"] == ["FINISHED"] and info["strokes_out"] > 0
+    # the bundled wheels were installed for the extension (Blender has no shapely)
+    assert {"shapely-2.1.2.dist-info", "svgelements-1.9.6.dist-info",
+            "defusedxml-0.7.1.dist-info"} <= set(info["wheels"])
