@@ -189,3 +189,25 @@ def test_extension_package_installs_and_runs(tmp_path):
     # the bundled wheels were installed for the extension (Blender has no shapely)
     assert {"shapely-2.1.2.dist-info", "svgelements-1.9.6.dist-info",
             "defusedxml-0.7.1.dist-info"} <= set(info["wheels"])
+
+
+def test_selected_strokes_only():
+    ob = make_object({1: "house"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    strokes = strokes_of(drawing)
+    chosen = np.zeros(len(strokes), bool)
+    chosen[:5] = True  # the floor and the right wall of the sample house
+    sel = drawing.attributes.new(".selection", "BOOLEAN", "CURVE")
+    sel.data.foreach_set("value", chosen)
+    assert bpy.ops.sketchsimp.simplify(scope="SELECTED", output="REPLACE") == {"FINISHED"}
+    after = strokes_of(drawing)
+    # the unselected strokes are still there, unchanged, and the selected ones were merged
+    kept = [s for s in after if any(len(s) == len(t) and np.array_equal(s, t)
+                                    for t in strokes[5:])]
+    assert len(kept) == len(strokes) - 5
+    assert len(after) - len(kept) < 5
+    selected_ink = shapely.union_all(lines_from([s[:, [0, 2]] for s in strokes[:5]]))
+    new = [s for s in after if not any(len(s) == len(t) and np.array_equal(s, t)
+                                       for t in strokes[5:])]
+    assert shapely.distance(shapely.points(np.concatenate(new)[:, [0, 2]]),
+                            selected_ink).max() < 6 * SCALE
