@@ -44,6 +44,19 @@ def drawing_plane(positions: np.ndarray) -> Plane:
     return Plane(centre, vt[:2])
 
 
+def drawing_from_polylines(polylines: list[np.ndarray], closed: list[bool]) -> DrawingData:
+    """Curve-object splines dressed as a drawing, with Grease Pencil's default attributes."""
+    counts = [len(p) for p in polylines]
+    n = sum(counts)
+    return DrawingData(
+        positions=np.concatenate(polylines).astype(np.float32),
+        offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int32),
+        radius=np.full(n, 0.01, np.float32), opacity=np.ones(n, np.float32),
+        vertex_color=None, material_index=np.zeros(len(counts), np.int32),
+        cyclic=np.zeros(len(counts), bool),  # closed splines already repeat their start
+        selected=np.ones(len(counts), bool), curve_type=np.full(len(counts), 1, np.int8))
+
+
 def to_sketch(data: DrawingData, strokes: list[int], plane: Plane) -> Sketch:
     """The chosen strokes of a drawing as a 2D core sketch; ``source_id`` is the index."""
     slices = data.stroke_slices()

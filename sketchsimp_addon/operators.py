@@ -6,7 +6,7 @@ import bpy
 
 from ..core.sketch import SketchError
 from .options import SimplifyOptions
-from .run import simplify_object, write_results
+from .run import simplify_curve_object, simplify_object, write_curve_result, write_results
 
 
 class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
@@ -22,8 +22,8 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         if obj is None:
             cls.poll_message_set("No active object: select a Grease Pencil object")
             return False
-        if obj.type != "GREASEPENCIL":
-            cls.poll_message_set(f"'{obj.name}' is not a Grease Pencil object")
+        if obj.type not in ("GREASEPENCIL", "CURVE"):
+            cls.poll_message_set(f"'{obj.name}' is neither a Grease Pencil nor a curve object")
             return False
         return True
 
@@ -34,6 +34,8 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         except SketchError as exc:
             self.report({"ERROR"}, str(exc))
             return {"CANCELLED"}
+        if obj.type == "CURVE":
+            return self._execute_curve(context, obj, params)
         wm = context.window_manager
         wm.progress_begin(0, max(1, len(obj.data.layers)))
         try:
@@ -46,17 +48,31 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             self.report({"ERROR"}, f"Nothing to simplify on '{obj.name}': {why}")
             return {"CANCELLED"}
         write_results(obj, self, results, context)
+        self._finish(context, report)
+        return {"FINISHED"}
+
+    def _execute_curve(self, context, obj, params):
+        report, new = simplify_curve_object(obj, params)
+        if new is None:
+            self.report({"ERROR"}, f"Nothing to simplify on '{obj.name}': "
+                        + "; ".join(report.skipped))
+            return {"CANCELLED"}
+        write_curve_result(obj, self, new, context)
+        self._finish(context, report)
+        return {"FINISHED"}
+
+    def _finish(self, context, report) -> None:
         settings = getattr(context.scene, "sketchsimp", None)
         if settings is not None:
             settings.last_run = report.message()
-        self.report({"WARNING"} if report.skipped else {"INFO"}, report.message())
-        return {"FINISHED"}
+        self.report({"WARNING"} if report.skipped or report.notes else {"INFO"},
+                    report.message())
 
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(self, "epsilon", slider=True)
-        for name in ("scope", "layers", "output", "hide_source"):
+        for name in ("scope", "layers", "output", "hide_source", "as_curve"):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")

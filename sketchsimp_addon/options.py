@@ -40,6 +40,9 @@ class SimplifyOptions:
     hide_source: BoolProperty(name="Hide Source", default=True,
                               description="Hide each source layer once its result is written "
                               "to a new layer or object")
+    as_curve: BoolProperty(name="As Curve Object", default=False,
+                           description="Write the result as a Bezier curve object (one per "
+                           "layer, from the first drawing simplified) instead of strokes")
     alpha: FloatProperty(
         name="Bundle Width", default=DEFAULTS.alpha, min=0.001, max=0.2, precision=3,
         description="Width of a bundle of rough strokes as a fraction of the drawing's size: "

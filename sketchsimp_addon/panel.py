@@ -7,8 +7,8 @@ from bpy.props import StringProperty
 
 from .options import SimplifyOptions
 
-OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "alpha", "samples",
-                "angle")
+OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "as_curve", "alpha",
+                "samples", "angle")
 
 
 class SketchSimpSettings(SimplifyOptions, bpy.types.PropertyGroup):
@@ -33,6 +33,7 @@ class SKETCHSIMP_PT_panel(bpy.types.Panel):
         layout.prop(settings, "layers")
         layout.prop(settings, "output")
         layout.prop(settings, "hide_source")
+        layout.prop(settings, "as_curve")
         op = layout.operator("sketchsimp.simplify", icon="MOD_SIMPLIFY")
         for name in OPTION_NAMES:
             setattr(op, name, getattr(settings, name))

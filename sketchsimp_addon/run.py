@@ -13,7 +13,8 @@ import numpy as np
 
 from ..core import SimplifyParams, simplify
 from ..core.sketch import SketchError
-from .convert import drawing_plane, to_new_strokes, to_sketch
+from .convert import drawing_from_polylines, drawing_plane, to_new_strokes, to_sketch
+from .curve_io import new_curve_object, read_curve, write_bezier_splines
 from .gp_io import NewStrokes, grease_pencil_data, read_drawing, write_strokes
 
 
@@ -24,12 +25,15 @@ class RunReport:
     strokes_out: int = 0
     seconds: float = 0.0
     skipped: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
     def message(self) -> str:
         text = (f"Simplified {self.drawings} drawing(s): {self.strokes_in} strokes -> "
                 f"{self.strokes_out} in {self.seconds:.2f} s")
         if self.skipped:
             text += "; skipped " + ", ".join(self.skipped)
+        if self.notes:
+            text += "; " + ", ".join(self.notes)
         return text
 
 
@@ -41,6 +45,48 @@ class DrawingResult:
     frames: list  # every keyframe showing the drawing
     chosen: list[int]  # the strokes simplified
     new: NewStrokes
+
+
+def _simplify_drawing(data, chosen: list[int], params: SimplifyParams):
+    points = np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1]) for k in chosen])
+    plane = drawing_plane(data.positions[points])
+    result = simplify(to_sketch(data, chosen, plane), params)
+    return result, to_new_strokes(result.strokes, data, plane)
+
+
+def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewStrokes | None]:
+    """Simplify the splines of a curve object (object space)."""
+    report = RunReport()
+    t0 = time.perf_counter()
+    polylines, closed, nurbs = read_curve(obj)
+    if nurbs:
+        report.notes.append(f"{nurbs} NURBS spline(s) read by their control points")
+    if not polylines:
+        report.skipped.append(f"'{obj.name}' (no spline with two points)")
+        return report, None
+    data = drawing_from_polylines(polylines, closed)
+    try:
+        result, new = _simplify_drawing(data, list(range(data.num_strokes)), params)
+    except SketchError as exc:
+        report.skipped.append(f"'{obj.name}' ({exc})")
+        return report, None
+    report.drawings, report.strokes_in, report.strokes_out = 1, len(polylines), len(new.knots)
+    report.seconds = time.perf_counter() - t0
+    return report, new
+
+
+def write_curve_result(obj, options, new: NewStrokes, context):
+    """Curve input: replace its splines, or write a new curve object beside it."""
+    if options.output == "REPLACE":
+        obj.data.splines.clear()
+        target = obj
+    else:
+        target = new_curve_object(obj.name + " simplified", obj, context.collection)
+        if options.hide_source:
+            obj.hide_set(True)
+    write_bezier_splines(target.data, new.knots, new.handles_left, new.handles_right,
+                         list(new.cyclic), new.radius)
+    return target
 
 
 def target_layers(gp, which: str, report: RunReport) -> list:
@@ -90,16 +136,12 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             report.skipped.append(f"an empty drawing on '{layer.name}' frame "
                                   f"{frames[0].frame_number}")
             continue
-        points = np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
-                                 for k in chosen])
-        plane = drawing_plane(data.positions[points])
         try:
-            result = simplify(to_sketch(data, chosen, plane), params)
+            result, new = _simplify_drawing(data, chosen, params)
         except SketchError as exc:
             report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({exc})")
             continue
-        results.append(DrawingResult(layer, frames, chosen,
-                                     to_new_strokes(result.strokes, data, plane)))
+        results.append(DrawingResult(layer, frames, chosen, new))
         report.drawings += 1
         report.strokes_in += len(chosen)
         report.strokes_out += len(result.strokes)
@@ -111,6 +153,19 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
 
 def write_results(obj, options, results: list[DrawingResult], context) -> object:
     """Write the results where ``options.output`` says; returns the object written to."""
+    if options.as_curve:  # one curve object a layer, placed like the layer's strokes
+        target = None
+        for r in results:
+            name = f"{obj.name} {r.layer.name} simplified"
+            if name in context.blend_data.objects:
+                continue  # one drawing per layer: the first simplified
+            target = new_curve_object(name, obj, context.collection)
+            target.matrix_world = obj.matrix_world @ r.layer.matrix_local
+            write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
+                                 r.new.handles_right, list(r.new.cyclic), r.new.radius)
+            if options.hide_source:
+                r.layer.hide = True
+        return target
     if options.output == "REPLACE":
         for r in results:
             drawing = r.frames[0].drawing

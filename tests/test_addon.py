@@ -211,3 +211,47 @@ def test_selected_strokes_only():
                                        for t in strokes[5:])]
     assert shapely.distance(shapely.points(np.concatenate(new)[:, [0, 2]]),
                             selected_ink).max() < 6 * SCALE
+
+
+def make_curve_object(sample: str, kind: str = "POLY"):
+    """A curve object with one spline per stroke of a sample sketch (X-Z plane)."""
+    cu = bpy.data.curves.new("Rough", type="CURVE")
+    cu.dimensions = "3D"
+    for pts in sample_points(sample):
+        if kind == "POLY":
+            sp = cu.splines.new("POLY")
+            sp.points.add(len(pts) - 1)
+            sp.points.foreach_set("co", np.hstack([pts, np.ones((len(pts), 1),
+                                                                np.float32)]).ravel())
+        else:
+            sp = cu.splines.new("BEZIER")
+            sp.bezier_points.add(len(pts) - 1)
+            bp = sp.bezier_points
+            for key in ("co", "handle_left", "handle_right"):
+                bp.foreach_set(key, pts.ravel())
+    ob = bpy.data.objects.new("Rough", cu)
+    bpy.context.scene.collection.objects.link(ob)
+    bpy.context.view_layer.objects.active = ob
+    return ob
+
+
+@pytest.mark.parametrize("kind", ["POLY", "BEZIER"])
+def test_curve_object_in_and_bezier_curve_out(kind):
+    ob = make_curve_object("cup", kind)
+    n_in = len(ob.data.splines)
+    assert bpy.ops.sketchsimp.simplify(hide_source=False) == {"FINISHED"}
+    out = bpy.data.objects["Rough simplified"]
+    assert out.type == "CURVE" and len(ob.data.splines) == n_in  # source untouched
+    splines = out.data.splines
+    assert 0 < len(splines) < n_in and all(s.type == "BEZIER" for s in splines)
+    ink = shapely.union_all(lines_from([s[:, [0, 2]] for s in sample_points("cup")]))
+    co = np.concatenate([[p.co[:] for p in s.bezier_points] for s in splines])
+    assert shapely.distance(shapely.points(co[:, [0, 2]]), ink).max() < 6 * SCALE
+
+
+def test_grease_pencil_to_a_bezier_curve_object():
+    ob = make_object({1: "house"})
+    assert bpy.ops.sketchsimp.simplify(as_curve=True) == {"FINISHED"}
+    out = bpy.data.objects["Sketch Lines simplified"]
+    assert out.type == "CURVE" and len(out.data.splines) > 0
+    assert len(ob.data.layers) == 1 and ob.data.layers["Lines"].hide

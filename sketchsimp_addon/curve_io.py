@@ -1,0 +1,85 @@
+"""Reading curve objects (Bezier, poly and NURBS splines) as polylines, and writing Bezier
+curve objects, in bulk per spline (``foreach_get``/``foreach_set``, float32).
+
+Bezier splines are tessellated with their handles, ``resolution_u`` steps a segment; poly
+splines are taken as they are; NURBS splines by their control polygon (an approximation
+noted in the report).
+"""
+
+from __future__ import annotations
+
+import bpy
+import numpy as np
+
+FREE = 0  # handle type, as foreach_set takes it
+
+
+def _bezier_polyline(spline, resolution: int) -> np.ndarray:
+    bp = spline.bezier_points
+    n = len(bp)
+    co, left, right = (np.empty(n * 3, np.float32) for _ in range(3))
+    bp.foreach_get("co", co)
+    bp.foreach_get("handle_left", left)
+    bp.foreach_get("handle_right", right)
+    co, left, right = co.reshape(-1, 3), left.reshape(-1, 3), right.reshape(-1, 3)
+    idx = np.arange(n)
+    nxt = (idx + 1) % n
+    segs = idx if spline.use_cyclic_u else idx[:-1]
+    if len(segs) == 0:
+        return co
+    t = np.linspace(0, 1, resolution + 1)[:-1, None, None]
+    p0, p1, p2, p3 = co[segs], right[segs], left[nxt[segs]], co[nxt[segs]]
+    pts = ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * p1 + 3 * (1 - t) * t ** 2 * p2
+           + t ** 3 * p3)  # (resolution, segments, 3)
+    pts = pts.transpose(1, 0, 2).reshape(-1, 3)
+    return np.concatenate([pts, co[nxt[segs[-1:]]]])
+
+
+def read_curve(obj) -> tuple[list[np.ndarray], list[bool], int]:
+    """Polylines (object space) of every spline, whether each is closed, and the number of
+    NURBS splines read by their control polygon."""
+    polylines, closed, nurbs = [], [], 0
+    resolution = max(1, obj.data.resolution_u)
+    for spline in obj.data.splines:
+        if spline.type == "BEZIER":
+            pts = _bezier_polyline(spline, resolution)
+        else:
+            buf = np.empty(len(spline.points) * 4, np.float32)
+            spline.points.foreach_get("co", buf)
+            pts = buf.reshape(-1, 4)[:, :3]
+            if spline.use_cyclic_u and len(pts) > 2:
+                pts = np.concatenate([pts, pts[:1]])
+            nurbs += spline.type == "NURBS"
+        if len(pts) >= 2:
+            polylines.append(pts)
+            closed.append(bool(spline.use_cyclic_u))
+    return polylines, closed, nurbs
+
+
+def write_bezier_splines(curve, knots: list[np.ndarray], lefts: list[np.ndarray],
+                         rights: list[np.ndarray], cyclic: list[bool],
+                         radius: list[np.ndarray] | None = None) -> None:
+    """Add one Bezier spline per stroke to a curve datablock, free handles as given."""
+    for k, (co, hl, hr) in enumerate(zip(knots, lefts, rights)):
+        spline = curve.splines.new("BEZIER")
+        spline.bezier_points.add(len(co) - 1)
+        bp = spline.bezier_points
+        bp.foreach_set("co", np.ascontiguousarray(co, np.float32).ravel())
+        bp.foreach_set("handle_left", np.ascontiguousarray(hl, np.float32).ravel())
+        bp.foreach_set("handle_right", np.ascontiguousarray(hr, np.float32).ravel())
+        free = np.full(len(co), FREE, np.int32)
+        bp.foreach_set("handle_left_type", free)
+        bp.foreach_set("handle_right_type", free)
+        if radius is not None:
+            bp.foreach_set("radius", np.ascontiguousarray(radius[k], np.float32))
+        spline.use_cyclic_u = bool(cyclic[k])
+
+
+def new_curve_object(name: str, like, collection) -> bpy.types.Object:
+    """An empty 3D Bezier curve object placed like ``like``, linked where it is."""
+    curve = bpy.data.curves.new(name, type="CURVE")
+    curve.dimensions = "3D"
+    obj = bpy.data.objects.new(name, curve)
+    obj.matrix_world = like.matrix_world
+    collection.objects.link(obj)
+    return obj
