@@ -12,7 +12,7 @@ STAMP45 := $(VENV45)/.installed
 .PHONY: help venv test lint demo benchmark extension clean
 
 help:
-	@echo "make demo       set up, then simplify a bundled sample sketch into out/"
+	@echo "make demo       set up, then simplify the bundled samples (SVG, and a .blend via the operator) into out/"
 	@echo "make test       set up, then run the whole test suite (add-on on Blender 5.0 and 4.5)"
 	@echo "make benchmark  timings and quality scores over ../shared/data"
 	@echo "make extension  build dist/sketchsimp-<version>-<platform>.zip for Blender"
@@ -43,6 +43,7 @@ lint: $(STAMP)
 
 demo: $(STAMP)
 	$(PY) scripts/demo.py
+	$(PY) scripts/demo_blender.py house
 
 extension: $(STAMP)
 	$(PY) scripts/build_extension.py
