@@ -37,7 +37,7 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         if obj.type == "CURVE":
             return self._execute_curve(context, obj, params)
         wm = context.window_manager
-        wm.progress_begin(0, max(1, len(obj.data.layers)))
+        wm.progress_begin(0.0, 1.0)
         try:
             report, results = simplify_object(obj, self, params, context.scene.frame_current,
                                               progress=wm.progress_update)

@@ -115,6 +115,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
 
     A drawing shared by several keyframes is simplified once, listed with all of them.
+    ``progress`` is called with the fraction of drawings done.
     """
     report = RunReport()
     t0 = time.perf_counter()
@@ -146,9 +147,18 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         report.strokes_in += len(chosen)
         report.strokes_out += len(result.strokes)
         if progress is not None:
-            progress(n + 1)
+            progress((n + 1) / len(jobs))
     report.seconds = time.perf_counter() - t0
     return report, results
+
+
+def place_above(gp, layer, below) -> None:
+    """Move a new layer (added on top) down to just above ``below``, in the main stack."""
+    if layer.parent_group is not None or below.parent_group is not None:
+        return  # layer groups: leave the new layer on top
+    names = [x.name for x in gp.layers]
+    for _ in range(names.index(layer.name) - names.index(below.name) - 1):
+        gp.layers.move(layer, "DOWN")
 
 
 def write_results(obj, options, results: list[DrawingResult], context) -> object:
@@ -190,6 +200,8 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             # the same layer transform, so that the strokes land where the source's are
             dest.translation, dest.rotation, dest.scale = (layer.translation, layer.rotation,
                                                           layer.scale)
+            if target is obj:
+                place_above(gp, dest, layer)
             made[layer.name] = dest
             if options.hide_source:
                 layer.hide = True

@@ -255,3 +255,17 @@ def test_grease_pencil_to_a_bezier_curve_object():
     out = bpy.data.objects["Sketch Lines simplified"]
     assert out.type == "CURVE" and len(out.data.splines) > 0
     assert len(ob.data.layers) == 1 and ob.data.layers["Lines"].hide
+
+
+def test_visible_layers_each_get_a_layer_just_above():
+    ob = make_object({1: "house"}, layer_name="Back")
+    front = ob.data.layers.new("Front", set_active=True)
+    from blender_scene import fill_drawing
+    fill_drawing(front.frames.new(1).drawing, sample_points("cup"))
+    hidden = ob.data.layers.new("Hidden")
+    fill_drawing(hidden.frames.new(1).drawing, sample_points("fish"))
+    hidden.hide = True
+    assert bpy.ops.sketchsimp.simplify(layers="VISIBLE", hide_source=False) == {"FINISHED"}
+    assert [x.name for x in ob.data.layers] == ["Back", "Back simplified", "Front",
+                                                "Front simplified", "Hidden"]
+    assert "layer 'Hidden' (hidden)" in bpy.context.scene.sketchsimp.last_run
