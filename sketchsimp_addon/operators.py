@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import traceback
+
 import bpy
 
 from ..core.sketch import SketchError
@@ -28,6 +30,14 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         return True
 
     def execute(self, context):
+        try:
+            return self._execute(context)
+        except Exception as exc:  # the operator boundary: a report, not a traceback dialog
+            traceback.print_exc()
+            self.report({"ERROR"}, f"Simplify Sketch failed: {type(exc).__name__}: {exc}")
+            return {"CANCELLED"}
+
+    def _execute(self, context):
         obj = context.active_object
         try:
             params = self.params()

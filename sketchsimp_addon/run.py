@@ -152,6 +152,20 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     return report, results
 
 
+def match_parent(layer, source) -> None:
+    """Parent a new layer as ``source`` is, landing its strokes where the source's are.
+
+    Parenting stores the inverse of the parent's matrix at that moment, read-only; if the
+    parent has moved since the source was parented, the difference goes into the new
+    layer's own transform: local = new_inverse^-1 @ source_inverse @ source_local.
+    """
+    layer.parent = source.parent
+    local = (layer.matrix_parent_inverse.inverted() @ source.matrix_parent_inverse
+             @ source.matrix_local)
+    translation, rotation, scale = local.decompose()
+    layer.translation, layer.rotation, layer.scale = translation, rotation.to_euler("XYZ"), scale
+
+
 def place_above(gp, layer, below) -> None:
     """Move a new layer (added on top) down to just above ``below``, in the main stack."""
     if layer.parent_group is not None or below.parent_group is not None:
@@ -200,6 +214,8 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             # the same layer transform, so that the strokes land where the source's are
             dest.translation, dest.rotation, dest.scale = (layer.translation, layer.rotation,
                                                           layer.scale)
+            if layer.parent is not None:
+                match_parent(dest, layer)
             if target is obj:
                 place_above(gp, dest, layer)
             made[layer.name] = dest

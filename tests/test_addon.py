@@ -269,3 +269,29 @@ def test_visible_layers_each_get_a_layer_just_above():
     assert [x.name for x in ob.data.layers] == ["Back", "Back simplified", "Front",
                                                 "Front simplified", "Hidden"]
     assert "layer 'Hidden' (hidden)" in bpy.context.scene.sketchsimp.last_run
+
+
+def test_layer_transform_and_parent_are_kept_and_edit_mode_works():
+    ob = make_object({1: "house"})
+    layer = ob.data.layers["Lines"]
+    empty = bpy.data.objects.new("Rig", None)
+    bpy.context.scene.collection.objects.link(empty)
+    empty.location = (1.0, 2.0, 3.0)
+    bpy.context.view_layer.update()
+    layer.parent = empty
+    layer.translation = (0.5, 0.0, 0.25)
+    empty.location = (-2.0, 0.0, 1.0)  # the rig moved after the layer was parented
+    bpy.context.view_layer.update()
+    bpy.context.view_layer.objects.active = ob
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+    out = ob.data.layers["Lines simplified"]
+    assert out.parent == empty
+
+    def world(lay):
+        return np.array(empty.matrix_world @ lay.matrix_parent_inverse @ lay.matrix_local)
+
+    np.testing.assert_allclose(world(out), world(layer), atol=1e-5)
