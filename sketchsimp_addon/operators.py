@@ -86,5 +86,5 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")
-        for name in ("alpha", "samples", "angle"):
+        for name in ("alpha", "samples", "angle", "beta", "join_angle", "corner_angle"):
             box.prop(self, name)

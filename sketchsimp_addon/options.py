@@ -52,7 +52,18 @@ class SimplifyOptions:
                          "more is finer and slower")
     angle: FloatProperty(name="Merge Angle", default=DEFAULTS.angle, min=0.0, max=90.0,
                          description="Largest angle, in degrees, between strokes that may merge")
+    beta: FloatProperty(name="Short Edge", default=DEFAULTS.beta, min=0.001, max=1.0,
+                        precision=3, description="Edges shorter than this share of their "
+                        "region's outline are smoothed away at junctions (beta)")
+    join_angle: FloatProperty(name="Join Angle", default=DEFAULTS.join_angle, min=0.0,
+                              max=80.0, description="Largest turn, in degrees, where two "
+                              "lines meeting at a junction continue as one stroke")
+    corner_angle: FloatProperty(name="Corner Angle", default=DEFAULTS.corner_angle, min=5.0,
+                                max=180.0, description="Turns sharper than this, in degrees, "
+                                "stay sharp corners of the output curves")
 
     def params(self) -> SimplifyParams:
-        return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha, samples=self.samples
-                              - self.samples % 2, angle=self.angle)
+        return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha,
+                              samples=self.samples - self.samples % 2, angle=self.angle,
+                              beta=self.beta, join_angle=self.join_angle,
+                              corner_angle=self.corner_angle)

@@ -8,7 +8,7 @@ from bpy.props import StringProperty
 from .options import SimplifyOptions
 
 OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "as_curve", "alpha",
-                "samples", "angle")
+                "samples", "angle", "beta", "join_angle", "corner_angle")
 
 
 class SketchSimpSettings(SimplifyOptions, bpy.types.PropertyGroup):

@@ -295,3 +295,30 @@ def test_layer_transform_and_parent_are_kept_and_edit_mode_works():
         return np.array(empty.matrix_world @ lay.matrix_parent_inverse @ lay.matrix_local)
 
     np.testing.assert_allclose(world(out), world(layer), atol=1e-5)
+
+
+def test_vertex_colour_opacity_and_material_are_carried_over():
+    ob = make_object({1: "cup"})
+    red = bpy.data.materials.new("Red")
+    bpy.data.materials.create_gpencil_data(red)
+    ob.data.materials.append(red)
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    attrs = drawing.attributes
+    n, s = attrs.domain_size("POINT"), attrs.domain_size("CURVE")
+    colour = attrs.new("vertex_color", "FLOAT_COLOR", "POINT")
+    colour.data.foreach_set("color", np.tile([0.2, 0.4, 0.6, 1.0], n).astype(np.float32))
+    attrs.new("material_index", "INT", "CURVE").data.foreach_set(
+        "value", np.ones(s, np.int32))
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    out = ob.data.layers["Lines simplified"].frames[0].drawing.attributes
+    m = out.domain_size("POINT")
+    got = np.empty(m * 4, np.float32)
+    out["vertex_color"].data.foreach_get("color", got)
+    np.testing.assert_allclose(got.reshape(-1, 4), np.tile([0.2, 0.4, 0.6, 1.0], (m, 1)),
+                               atol=1e-5)  # float32 means
+    opacity = np.empty(m, np.float32)
+    out["opacity"].data.foreach_get("value", opacity)
+    np.testing.assert_allclose(opacity, 0.9, atol=1e-5)
+    material = np.empty(out.domain_size("CURVE"), np.int32)
+    out["material_index"].data.foreach_get("value", material)
+    assert (material == 1).all()
