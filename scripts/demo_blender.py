@@ -27,41 +27,13 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from blender_scene import clear_scene, load_extension, make_object  # noqa: E402
+from blender_scene import clear_scene, drawn_strokes, load_extension, make_object  # noqa: E402
 
 
 def args_after_dashes() -> list[str]:
     if "--" in sys.argv:
         return sys.argv[sys.argv.index("--") + 1:]
     return sys.argv[1:] if bpy.app.binary_path == "" else []
-
-
-def drawn_curves(drawing, steps: int = 12) -> list[np.ndarray]:
-    """Each stroke as (x, z) points: Bezier strokes evaluated from their handles."""
-    attrs = drawing.attributes
-    n = attrs.domain_size("POINT")
-
-    def vec(name):
-        buf = np.empty(n * 3, np.float32)
-        attrs[name].data.foreach_get("vector", buf)
-        return buf.reshape(-1, 3)
-
-    p = vec("position")
-    bezier = attrs.get("handle_left") is not None
-    left, right = (vec("handle_left"), vec("handle_right")) if bezier else (p, p)
-    offsets = np.empty(attrs.domain_size("CURVE") + 1, np.int32)
-    drawing.curve_offsets.foreach_get("value", offsets)
-    t = np.linspace(0, 1, steps)[:, None]
-    out = []
-    for a, b in zip(offsets[:-1], offsets[1:]):
-        if not bezier:
-            out.append(p[a:b][:, [0, 2]])
-            continue
-        segs = [(1 - t) ** 3 * p[i] + 3 * (1 - t) ** 2 * t * right[i]
-                + 3 * (1 - t) * t ** 2 * left[i + 1] + t ** 3 * p[i + 1] for i in range(a, b - 1)]
-        out.append(np.concatenate(segs)[:, [0, 2]] if segs else p[a:b][:, [0, 2]])
-    return out
 
 
 def main() -> int:
@@ -79,8 +51,9 @@ def main() -> int:
         print(bpy.context.scene.sketchsimp.last_run)
         blend = args.out / f"{args.sample}.blend"
         bpy.ops.wm.save_as_mainfile(filepath=str(blend))
-        before = drawn_curves(ob.data.layers["Lines"].frames[0].drawing)
-        after = drawn_curves(ob.data.layers["Lines simplified"].frames[0].drawing)
+        before = [s[:, [0, 2]] for s in drawn_strokes(ob.data.layers["Lines"].frames[0].drawing)]
+        after = [s[:, [0, 2]]
+                 for s in drawn_strokes(ob.data.layers["Lines simplified"].frames[0].drawing)]
         fig, axes = plt.subplots(1, 2, figsize=(10, 5.2))
         for ax, strokes, label in ((axes[0], before, f"Grease Pencil: {len(before)} strokes"),
                                    (axes[1], after, f"Simplify Sketch: {len(after)} strokes")):

@@ -86,3 +86,36 @@ def snapshot(drawing) -> dict[str, bytes]:
         attr.data.foreach_get(key, buf)
         out[attr.name] = buf.tobytes()
     return out
+
+
+def drawn_strokes(drawing, steps: int = 16) -> list[np.ndarray]:
+    """Each stroke of a drawing as points along it: Bezier strokes evaluated from their
+    knots and handles, other strokes as their points."""
+    attrs = drawing.attributes
+    n = attrs.domain_size("POINT")
+
+    def vec(name):
+        buf = np.empty(n * 3, np.float32)
+        attrs[name].data.foreach_get("vector", buf)
+        return buf.reshape(-1, 3)
+
+    p = vec("position")
+    bezier = attrs.get("handle_left") is not None
+    left, right = (vec("handle_left"), vec("handle_right")) if bezier else (p, p)
+    offsets = np.empty(attrs.domain_size("CURVE") + 1, np.int32)
+    drawing.curve_offsets.foreach_get("value", offsets)
+    cyclic = np.zeros(len(offsets) - 1, bool)
+    if attrs.get("cyclic") is not None:
+        attrs["cyclic"].data.foreach_get("value", cyclic)
+    t = np.linspace(0, 1, steps)[:, None]
+    out = []
+    for k, (a, b) in enumerate(zip(offsets[:-1], offsets[1:])):
+        idx = list(range(a, b))
+        pairs = list(zip(idx[:-1], idx[1:])) + ([(idx[-1], idx[0])] if cyclic[k] else [])
+        if not bezier or not pairs:
+            out.append(p[a:b])
+            continue
+        out.append(np.concatenate([(1 - t) ** 3 * p[i] + 3 * (1 - t) ** 2 * t * right[i]
+                                   + 3 * (1 - t) * t ** 2 * left[j] + t ** 3 * p[j]
+                                   for i, j in pairs]))
+    return out

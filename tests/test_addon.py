@@ -9,6 +9,7 @@ import shapely
 from blender_scene import (
     SCALE,
     clear_scene,
+    drawn_strokes,
     load_extension,
     make_object,
     sample_points,
@@ -43,29 +44,9 @@ def strokes_of(drawing) -> list[np.ndarray]:
     return np.split(pos.reshape(-1, 3), offsets[1:-1])
 
 
-def evaluated(drawing, steps: int = 16) -> np.ndarray:
-    """Points along the drawing's Bezier strokes, evaluated from knots and handles."""
-    attrs = drawing.attributes
-    n = attrs.domain_size("POINT")
-
-    def vec(name):
-        buf = np.empty(n * 3, np.float32)
-        attrs[name].data.foreach_get("vector", buf)
-        return buf.reshape(-1, 3)
-
-    p, left, right = vec("position"), vec("handle_left"), vec("handle_right")
-    offsets = np.empty(attrs.domain_size("CURVE") + 1, np.int32)
-    drawing.curve_offsets.foreach_get("value", offsets)
-    cyclic = np.empty(len(offsets) - 1, bool)
-    attrs["cyclic"].data.foreach_get("value", cyclic)
-    t = np.linspace(0, 1, steps)[:, None]
-    out = []
-    for k in range(len(offsets) - 1):
-        idx = list(range(offsets[k], offsets[k + 1]))
-        for i, j in list(zip(idx[:-1], idx[1:])) + ([(idx[-1], idx[0])] if cyclic[k] else []):
-            out.append((1 - t) ** 3 * p[i] + 3 * (1 - t) ** 2 * t * right[i]
-                       + 3 * (1 - t) * t ** 2 * left[j] + t ** 3 * p[j])
-    return np.concatenate(out)
+def evaluated(drawing) -> np.ndarray:
+    """Points along all the drawing's strokes, Beziers evaluated from knots and handles."""
+    return np.concatenate(drawn_strokes(drawing))
 
 
 def test_register_twice_and_operator_exists(extension):
