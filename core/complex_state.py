@@ -58,6 +58,7 @@ class ComplexState:
             elif a >= 0:
                 self.patch_inner[a].add(c)
         self.merges_applied = 0
+        self._num_curves, self._num_patches = n_curves, n_patches  # alive, kept up to date
 
     # -- queries ----------------------------------------------------------------------
     def is_free(self, curve: int) -> bool:
@@ -72,11 +73,11 @@ class ComplexState:
 
     @property
     def num_curves(self) -> int:
-        return sum(self.curve_alive)
+        return self._num_curves
 
     @property
     def num_patches(self) -> int:
-        return sum(self.patch_alive)
+        return self._num_patches
 
     def shared_curves(self, p: int, q: int) -> list[int]:
         small, large = sorted((self.patch_curves[p], self.patch_curves[q]), key=len)
@@ -93,6 +94,7 @@ class ComplexState:
     # -- edits --------------------------------------------------------------------------
     def _kill_curve(self, c: int) -> None:
         self.curve_alive[c] = False
+        self._num_curves -= 1
         for n in self.curve_nodes[c]:
             self.node_curves[n].discard(c)
         a, b = self.curve_sides[c]
@@ -114,6 +116,7 @@ class ComplexState:
             self.curve_sides[c] = (r, r)
         self.patch_alive[p] = self.patch_alive[q] = False
         self.patch_alive.append(True)
+        self._num_patches -= 1
         self.patch_curves.append(curves)
         self.patch_inner.append(inner)
         self.patch_origin.append(self.patch_origin[p] + self.patch_origin[q])
@@ -133,6 +136,7 @@ class ComplexState:
         inside = sa[0] if sa == sb else -1  # both dangling inside one patch: stay inside
         self.curves.append(points)
         self.curve_alive.append(True)
+        self._num_curves += 1
         self.curve_weight.append(self.curve_weight[a] + self.curve_weight[b])
         self.curve_nodes.append(nodes)
         self.curve_sides.append((inside, inside))
