@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import SimplifyParams, simplify
+from ..core.parallel import default_jobs, simplify_all
 from ..core.sketch import SketchError
 from .convert import drawing_from_polylines, drawing_plane, to_new_strokes, to_sketch
 from .curve_io import new_curve_object, read_curve, write_bezier_splines
@@ -47,13 +48,6 @@ class DrawingResult:
     new: NewStrokes
 
 
-def _simplify_drawing(data, chosen: list[int], params: SimplifyParams):
-    points = np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1]) for k in chosen])
-    plane = drawing_plane(data.positions[points])
-    result = simplify(to_sketch(data, chosen, plane), params)
-    return result, to_new_strokes(result.strokes, data, plane)
-
-
 def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewStrokes | None]:
     """Simplify the splines of a curve object (object space)."""
     report = RunReport()
@@ -65,8 +59,10 @@ def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewSt
         report.skipped.append(f"'{obj.name}' (no spline with two points)")
         return report, None
     data = drawing_from_polylines(polylines, closed)
+    plane = drawing_plane(data.positions)
     try:
-        result, new = _simplify_drawing(data, list(range(data.num_strokes)), params)
+        new = to_new_strokes(simplify(to_sketch(data, list(range(data.num_strokes)), plane),
+                                      params).strokes, data, plane)
     except SketchError as exc:
         report.skipped.append(f"'{obj.name}' ({exc})")
         return report, None
@@ -110,44 +106,68 @@ def source_frames(layer, scope: str, frame_number: int) -> list:
     return [frame] if frame is not None else []
 
 
+#: from this many drawings on, the core runs them in a pool of processes
+POOL_FROM = 4
+
+
+def collect_drawings(obj, options, frame_number: int, report: RunReport,
+                     frame_range: tuple[int, int] | None = None) -> list[tuple]:
+    """(layer, frames) for each distinct drawing to simplify: a drawing shared by several
+    keyframes is listed once, with all of them. ``frame_range`` narrows "ALL" scope."""
+    drawings: dict[int, tuple] = {}
+    for layer in target_layers(obj.data, options.layers, report):
+        for frame in source_frames(layer, options.scope, frame_number):
+            if frame_range and not frame_range[0] <= frame.frame_number <= frame_range[1]:
+                continue
+            key = frame.drawing.as_pointer()
+            if key in drawings:
+                drawings[key][1].append(frame)
+            else:
+                drawings[key] = (layer, [frame])
+    return list(drawings.values())
+
+
 def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
-                    progress=None) -> tuple[RunReport, list[DrawingResult]]:
+                    progress=None, jobs: int | None = None,
+                    frame_range: tuple[int, int] | None = None
+                    ) -> tuple[RunReport, list[DrawingResult]]:
     """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
 
-    A drawing shared by several keyframes is simplified once, listed with all of them.
-    ``progress`` is called with the fraction of drawings done.
+    Drawings are read here, simplified by the core (in ``jobs`` processes; by default a
+    pool of all cores from :data:`POOL_FROM` drawings on), and turned into new strokes
+    here. ``progress`` is called with the fraction of drawings done.
     """
     report = RunReport()
     t0 = time.perf_counter()
-    jobs: dict[int, tuple] = {}
-    for layer in target_layers(obj.data, options.layers, report):
-        for frame in source_frames(layer, options.scope, frame_number):
-            key = frame.drawing.as_pointer()
-            if key in jobs:
-                jobs[key][1].append(frame)
-            else:
-                jobs[key] = (layer, [frame])
-    results = []
-    for n, (layer, frames) in enumerate(jobs.values()):
+    prepared = []
+    for layer, frames in collect_drawings(obj, options, frame_number, report, frame_range):
         data = read_drawing(frames[0].drawing)
         chosen = [k for k in range(data.num_strokes)
-                  if options.scope != "SELECTED" or data.selected[k]]
-        chosen = [k for k in chosen if data.offsets[k + 1] - data.offsets[k] >= 2]
+                  if (options.scope != "SELECTED" or data.selected[k])
+                  and data.offsets[k + 1] - data.offsets[k] >= 2]
         if not chosen:
             report.skipped.append(f"an empty drawing on '{layer.name}' frame "
                                   f"{frames[0].frame_number}")
             continue
-        try:
-            result, new = _simplify_drawing(data, chosen, params)
-        except SketchError as exc:
-            report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({exc})")
+        points = np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
+                                 for k in chosen])
+        plane = drawing_plane(data.positions[points])
+        prepared.append((layer, frames, data, chosen, plane, to_sketch(data, chosen, plane)))
+    if jobs is None:
+        jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
+    outputs = simplify_all([p[-1] for p in prepared], params, jobs,
+                           None if progress is None else lambda done, total:
+                           progress(done / total))
+    results = []
+    for (layer, frames, data, chosen, plane, _), strokes in zip(prepared, outputs):
+        if isinstance(strokes, SketchError):
+            report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({strokes})")
             continue
-        results.append(DrawingResult(layer, frames, chosen, new))
+        results.append(DrawingResult(layer, frames, chosen,
+                                     to_new_strokes(strokes, data, plane)))
         report.drawings += 1
         report.strokes_in += len(chosen)
-        report.strokes_out += len(result.strokes)
-        if progress is not None:
-            progress((n + 1) / len(jobs))
+        report.strokes_out += len(strokes)
     report.seconds = time.perf_counter() - t0
     return report, results
 

@@ -19,15 +19,18 @@ module = sys.modules.get(name)
 enabled = addon_utils.check(name)
 from blender_scene import make_object  # noqa: E402  (needs bpy, after the install)
 
-ob = make_object({1: "house"})
-result = bpy.ops.sketchsimp.simplify()
+# five keyframes: the installed copy runs them in a process pool, whose workers must
+# rebuild the bl_ext.user_default.sketchsimp package to find core
+ob = make_object({1: "house", 5: "cup", 9: "fish", 13: "house", 17: "cup"})
+result = bpy.ops.sketchsimp.simplify(scope="ALL")
 out_layer = ob.data.layers.get("Lines simplified")
 site = Path(bpy.utils.user_resource("EXTENSIONS", path=".local"))
 wheels = sorted(p.name for p in site.glob("lib/python3*/site-packages/*.dist-info"))
 
 print(json.dumps({
     "module": module.__file__ if module else None, "enabled": list(enabled),
-    "result": sorted(result), "strokes_out": out_layer.frames[0].drawing.attributes.domain_size(
+    "result": sorted(result), "frames_out": len(out_layer.frames) if out_layer else 0,
+    "strokes_out": out_layer.frames[0].drawing.attributes.domain_size(
         "CURVE") if out_layer else 0,
     "wheels": wheels,
 }))

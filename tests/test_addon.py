@@ -167,6 +167,7 @@ def test_extension_package_installs_and_runs(tmp_path):
     assert info["module"] and str(tmp_path / "user") in info["module"]
     assert info["enabled"] == [True, True]
     assert info["result"] == ["FINISHED"] and info["strokes_out"] > 0
+    assert info["frames_out"] == 5
     # the bundled wheels were installed for the extension (Blender has no shapely)
     assert {"shapely-2.1.2.dist-info", "svgelements-1.9.6.dist-info",
             "defusedxml-0.7.1.dist-info"} <= set(info["wheels"])
@@ -303,3 +304,23 @@ def test_vertex_colour_opacity_and_material_are_carried_over():
     material = np.empty(out.domain_size("CURVE"), np.int32)
     out["material_index"].data.foreach_get("value", material)
     assert (material == 1).all()
+
+
+def test_many_keyframes_go_through_the_process_pool():
+    samples = ["house", "cup", "fish", "house", "cup"]
+    ob = make_object({1 + 4 * k: name for k, name in enumerate(samples)})
+    assert bpy.ops.sketchsimp.simplify(scope="ALL") == {"FINISHED"}  # 5 drawings: a pool
+    pooled = {f.frame_number: strokes_of(f.drawing)
+              for f in ob.data.layers["Lines simplified"].frames}
+    clear_scene()
+    from sketchsimp.sketchsimp_addon.run import simplify_object
+    ob = make_object({1 + 4 * k: name for k, name in enumerate(samples)})
+
+    class Options:
+        scope, layers = "ALL", "ACTIVE"
+
+    from sketchsimp.core import SimplifyParams  # the extension's own copy of core
+    report, results = simplify_object(ob, Options, SimplifyParams(), 1, jobs=1)
+    assert report.drawings == 5 and len(pooled) == 5
+    for r in results:  # the same strokes, one process or several
+        assert len(r.new.knots) == len(pooled[r.frames[0].frame_number])

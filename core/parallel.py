@@ -1,0 +1,86 @@
+"""Simplifying many sketches at once in a pool of processes.
+
+Sketches are independent, and plain data (numpy arrays) travels to worker processes
+cheaply; only the output strokes come back. Workers are started with 'spawn', so they
+import nothing but ``core`` (never Blender), whatever process starts them.
+
+Inside Blender ``core`` is a subpackage of the extension (``bl_ext.<repo>.sketchsimp``),
+a name that exists only in Blender's memory. A spawned worker first recreates that package
+from its folder, by a few lines of source run through ``exec`` (a builtin, so nothing of
+ours has to be importable before it runs), and can then unpickle the work function.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from .params import SimplifyParams
+from .simplify import simplify
+from .sketch import Sketch, SketchError, Stroke
+
+
+def _simplify_strokes(args: tuple[Sketch, SimplifyParams]) -> list[Stroke] | SketchError:
+    sketch, params = args
+    try:
+        return simplify(sketch, params).strokes
+    except SketchError as exc:
+        return exc
+
+
+#: run in each worker: make the package that holds ``core`` importable under its name
+_BOOTSTRAP = """
+import importlib.util, sys, types
+name, path = {name!r}, {path!r}
+parts = name.split(".")
+for i in range(1, len(parts)):
+    sys.modules.setdefault(".".join(parts[:i]), types.ModuleType(".".join(parts[:i])))
+spec = importlib.util.spec_from_file_location(name, path + "/__init__.py",
+                                              submodule_search_locations=[path])
+module = importlib.util.module_from_spec(spec)
+sys.modules[name] = module
+spec.loader.exec_module(module)
+"""
+
+
+def _worker_setup() -> tuple:
+    """(initializer, args) that let a spawned worker import this module by its name."""
+    package = __name__.rpartition(".core.")[0]
+    if not package:  # imported as top-level ``core``: the child's sys.path finds it
+        return None, ()
+    source = _BOOTSTRAP.format(name=package, path=str(Path(__file__).resolve().parents[1]))
+    return exec, (source, {})
+
+
+def default_jobs() -> int:
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+               else (os.cpu_count() or 1))
+
+
+def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
+                 progress: Callable[[int, int], None] | None = None
+                 ) -> list[list[Stroke] | SketchError]:
+    """The output strokes of each sketch, in order; a sketch that cannot be simplified
+    gives its :class:`SketchError` in its place. ``jobs`` > 1 uses that many processes."""
+    if jobs < 1:
+        raise SketchError(f"jobs must be at least 1, got {jobs}")
+    work = [(s, params) for s in sketches]
+    out: list[list[Stroke] | SketchError] = []
+    if jobs == 1 or len(work) < 2:
+        for k, item in enumerate(work):
+            out.append(_simplify_strokes(item))
+            if progress is not None:
+                progress(k + 1, len(work))
+        return out
+    context = multiprocessing.get_context("spawn")
+    initializer, initargs = _worker_setup()
+    with ProcessPoolExecutor(max_workers=min(jobs, len(work)), mp_context=context,
+                             initializer=initializer, initargs=initargs) as pool:
+        for k, result in enumerate(pool.map(_simplify_strokes, work)):
+            out.append(result)
+            if progress is not None:
+                progress(k + 1, len(work))
+    return out
