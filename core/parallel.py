@@ -8,14 +8,18 @@ Inside Blender ``core`` is a subpackage of the extension (``bl_ext.<repo>.sketch
 a name that exists only in Blender's memory. A spawned worker first recreates that package
 from its folder, by a few lines of source run through ``exec`` (a builtin, so nothing of
 ours has to be importable before it runs), and can then unpickle the work function.
+Spawned workers also re-run the parent's main script, which under Blender imports bpy (not
+to be had outside Blender): while workers start, the main module's file is hidden.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
-from collections.abc import Callable
+import sys
+from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
 from pathlib import Path
 
 from .params import SimplifyParams
@@ -55,6 +59,23 @@ def _worker_setup() -> tuple:
     return exec, (source, {})
 
 
+@contextmanager
+def _main_script_hidden() -> Iterator[None]:
+    """Keep spawned workers from re-running the main script (a Blender script imports bpy)."""
+    main = sys.modules.get("__main__")
+    saved = {k: main.__dict__[k] for k in ("__file__", "__spec__") if main and k in main.__dict__}
+    if main is not None:
+        main.__dict__.pop("__file__", None)
+        main.__spec__ = None
+    try:
+        yield
+    finally:
+        if main is not None:
+            main.__dict__.update(saved)
+            if "__spec__" not in saved:
+                del main.__spec__
+
+
 def default_jobs() -> int:
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
                else (os.cpu_count() or 1))
@@ -77,8 +98,9 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
         return out
     context = multiprocessing.get_context("spawn")
     initializer, initargs = _worker_setup()
-    with ProcessPoolExecutor(max_workers=min(jobs, len(work)), mp_context=context,
-                             initializer=initializer, initargs=initargs) as pool:
+    with _main_script_hidden(), ProcessPoolExecutor(
+            max_workers=min(jobs, len(work)), mp_context=context, initializer=initializer,
+            initargs=initargs) as pool:
         for k, result in enumerate(pool.map(_simplify_strokes, work)):
             out.append(result)
             if progress is not None:
