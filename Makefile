@@ -36,7 +36,7 @@ venv: $(STAMP)
 
 test: $(STAMP) $(STAMP45)
 	$(PY) -m pytest
-	$(VENV45)/bin/python -m pytest tests/test_addon.py
+	$(VENV45)/bin/python -m pytest tests/test_addon.py tests/test_batch.py
 
 lint: $(STAMP)
 	$(PY) -m ruff check core sketchsimp_addon tests scripts

@@ -2,6 +2,7 @@
 
     python -m core INPUT -o OUTPUT.svg [--epsilon E] [--stats STATS.json]
     python -m core inspect SKETCH [SKETCH ...] [--json]
+    python -m core batch IN_DIR OUT_DIR [--jobs N] [--epsilon E] [--scap] [--summary S.json]
 
 INPUT is .svg or .scap; OUTPUT is .svg (one <path> per output stroke) or .scap, in the
 input's coordinates. Errors print one line and exit with status 1 (2 for bad usage).
@@ -45,6 +46,23 @@ def simplify_parser() -> argparse.ArgumentParser:
     return p
 
 
+def batch_parser() -> argparse.ArgumentParser:
+    from .parallel import default_jobs
+    from .params import SimplifyParams
+
+    p = argparse.ArgumentParser(prog="python -m core batch",
+                                description="Simplify every .svg/.scap sketch in a folder.")
+    p.add_argument("in_dir", type=Path, help="folder of .svg/.scap sketches")
+    p.add_argument("out_dir", type=Path, help="folder for the results (made if missing)")
+    p.add_argument("--jobs", type=int, default=default_jobs(),
+                   help="worker processes (default: every core)")
+    p.add_argument("--epsilon", type=float, default=SimplifyParams().epsilon,
+                   help="how far to simplify (default %(default)s)")
+    p.add_argument("--scap", action="store_true", help="write .scap instead of .svg")
+    p.add_argument("--summary", type=Path, help="write counts and seconds to this JSON file")
+    return p
+
+
 def run_simplify(args: argparse.Namespace) -> None:
     from .io import read_sketch, write_sketch
     from .params import SimplifyParams
@@ -74,6 +92,12 @@ def main(argv: list[str] | None = None) -> int:
             from .inspection import run
             args = inspect_parser().parse_args(argv[1:])
             run(args.sketch, args.json)
+        elif argv and argv[0] == "batch":
+            from .batch import batch
+            from .params import SimplifyParams
+            args = batch_parser().parse_args(argv[1:])
+            return batch(args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon),
+                         args.jobs, ".scap" if args.scap else ".svg", args.summary)
         else:
             run_simplify(simplify_parser().parse_args(argv))
         return 0

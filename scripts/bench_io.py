@@ -15,7 +15,7 @@ ROOT = Path(__file__).resolve().parents[1]
 home = tempfile.mkdtemp(prefix="sketchsimp-bench-")
 os.environ.setdefault("BLENDER_USER_RESOURCES", os.path.join(home, "user"))
 os.environ.setdefault("XDG_CACHE_HOME", os.path.join(home, "cache"))
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "scripts")]
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402

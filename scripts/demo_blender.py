@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 home = tempfile.mkdtemp(prefix="sketchsimp-demo-")
 os.environ.setdefault("BLENDER_USER_RESOURCES", os.path.join(home, "user"))
 os.environ.setdefault("XDG_CACHE_HOME", os.path.join(home, "cache"))
-sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
+sys.path[:0] = [str(ROOT), str(ROOT / "tests"), str(ROOT / "scripts")]
 
 import bpy  # noqa: E402
 import matplotlib  # noqa: E402

@@ -2,30 +2,16 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-
 import bpy
 import numpy as np
-from helpers import ROOT, SAMPLES
+from extension import load_extension  # noqa: F401  (scripts/, re-exported for tests)
+from helpers import SAMPLES
 
 from core import read_sketch
 
 GP_DATA = bpy.data.grease_pencils_v3 if hasattr(bpy.data, "grease_pencils_v3") \
     else bpy.data.grease_pencils
 SCALE = 0.01  # sample pixels to metres
-
-
-def load_extension():
-    """Import the repository root as the package ``sketchsimp``, the way Blender does."""
-    if "sketchsimp" in sys.modules:
-        return sys.modules["sketchsimp"]
-    spec = importlib.util.spec_from_file_location(
-        "sketchsimp", ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["sketchsimp"] = module
-    spec.loader.exec_module(module)
-    return module
 
 
 def clear_scene() -> None:

@@ -11,7 +11,7 @@ import bpy
 addon_utils = importlib.import_module("addon_utils")  # on sys.path once bpy is imported
 
 zip_path, sample_root = sys.argv[1], sys.argv[2]
-sys.path.insert(0, sample_root)  # tests/ for the scene helpers
+sys.path[:0] = [sample_root, str(Path(sample_root).parent / "scripts")]  # scene helpers
 bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
                                          enable_on_install=True)
 name = "bl_ext.user_default.sketchsimp"

@@ -1,0 +1,172 @@
+"""Simplify the Grease Pencil drawings of .blend files, headless.
+
+    blender -b SHOT.blend --python scripts/batch_simplify.py -- [options]
+    python scripts/batch_simplify.py SHOT.blend [MORE.blend ...] [options]   (bpy wheel)
+
+Options: --objects NAME[,NAME] (default every Grease Pencil object), --layers visible|active,
+--frames all|current|A-B, --epsilon E (and --alpha, --samples), --output PATH (a file for
+one input, a folder for several; default <name>_simplified.blend beside each input),
+--in-place (overwrite the input after copying it to <name>.blend1), --jobs N, --summary
+S.json. The result of each layer goes to a new layer above it, as the operator does.
+Exits 2 with one line on a missing file, a file without Grease Pencil or a bad frame range.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+ROOT = Path(__file__).resolve().parents[1]
+if "BLENDER_USER_RESOURCES" not in os.environ:  # keep the user's Blender config untouched
+    os.environ["BLENDER_USER_RESOURCES"] = tempfile.mkdtemp(prefix="sketchsimp-batch-")
+
+import bpy  # noqa: E402
+
+
+class UsageError(Exception):
+    """A problem with the command's input: one line, exit status 2."""
+
+
+def script_argv(argv: list[str]) -> list[str]:
+    if "--" in argv:  # blender -b --python x.py -- ARGS, or python x.py -- ARGS
+        return argv[argv.index("--") + 1:]
+    if bpy.app.binary_path == "":  # the bpy wheel: argv is [script, ARGS...]
+        return argv[1:]
+    return []  # inside Blender without '--': the rest was Blender's
+
+
+def parse_frames(text: str) -> tuple[str, tuple[int, int] | None]:
+    if text in ("all", "current"):
+        return text, None
+    try:
+        first, last = (int(x) for x in text.split("-", 1))
+    except ValueError:
+        raise UsageError(f"bad frame range {text!r}: use all, current or FIRST-LAST") from None
+    if first > last:
+        raise UsageError(f"bad frame range {text!r}: {first} comes after {last}")
+    return "range", (first, last)
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="batch_simplify.py", description=__doc__.splitlines()[0])
+    p.add_argument("blend", nargs="*", type=Path, help=".blend files (under blender -b: "
+                   "the open file when none is given)")
+    p.add_argument("--objects", default="", help="comma-separated object names")
+    p.add_argument("--layers", choices=("visible", "active"), default="visible")
+    p.add_argument("--frames", default="all", help="all, current, or a range like 10-120")
+    p.add_argument("--epsilon", type=float, default=0.015)
+    p.add_argument("--alpha", type=float, default=0.012)
+    p.add_argument("--samples", type=int, default=256)
+    p.add_argument("--output", type=Path, help="output .blend (one input) or folder")
+    p.add_argument("--in-place", action="store_true", help="overwrite the input, after a "
+                   ".blend1 backup")
+    p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all "
+                   "cores when there are several drawings)")
+    p.add_argument("--summary", type=Path, help="write a JSON summary here")
+    return p
+
+
+def output_path(blend: Path, args, several: bool) -> Path:
+    if args.in_place:
+        return blend
+    if args.output is None:
+        return blend.with_name(blend.stem + "_simplified.blend")
+    if several:
+        args.output.mkdir(parents=True, exist_ok=True)
+        return args.output / blend.name
+    return args.output
+
+
+def process(blend: Path | None, args, params, run, frames_mode, frame_range) -> dict:
+    if blend is not None:
+        bpy.ops.wm.open_mainfile(filepath=str(blend))
+    wanted = {n for n in args.objects.split(",") if n}
+    objects = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"
+               and (not wanted or o.name in wanted)]
+    name = blend.name if blend else bpy.data.filepath
+    if not objects:
+        raise UsageError(f"{name}: no Grease Pencil object"
+                         + (f" named {', '.join(sorted(wanted))}" if wanted else ""))
+    scene = bpy.context.scene
+    row = {"file": str(blend), "drawings": 0, "strokes_in": 0, "strokes_out": 0,
+           "skipped": [], "objects": {}}
+    for ob in objects:
+        options = SimpleNamespace(scope="CURRENT" if frames_mode == "current" else "ALL",
+                                  layers=args.layers.upper(), output="LAYER",
+                                  hide_source=True, as_curve=False)
+        report, results = run.simplify_object(ob, options, params, scene.frame_current,
+                                              jobs=args.jobs, frame_range=frame_range)
+        for r in results:
+            frames = ",".join(str(f.frame_number) for f in r.frames)
+            print(f"  {ob.name} / {r.layer.name} frame {frames}: {len(r.chosen)} -> "
+                  f"{len(r.new.knots)} strokes", flush=True)
+        run.write_results(ob, options, results, bpy.context)
+        row["objects"][ob.name] = {"drawings": report.drawings, "strokes_in": report.strokes_in,
+                                   "strokes_out": report.strokes_out}
+        for key in ("drawings", "strokes_in", "strokes_out"):
+            row[key] += getattr(report, key)
+        row["skipped"] += [f"{ob.name}: {s}" for s in report.skipped]
+    return row
+
+
+def main() -> int:
+    args = parser().parse_args(script_argv(sys.argv))
+    sys.path.insert(0, str(ROOT / "scripts"))
+    from extension import load_extension
+
+    load_extension()  # the repository as the extension package, nothing registered
+    from sketchsimp.core import SimplifyParams
+    from sketchsimp.core.sketch import SketchError
+    from sketchsimp.sketchsimp_addon import run
+
+    t0 = time.perf_counter()
+    try:
+        frames_mode, frame_range = parse_frames(args.frames)
+        params = SimplifyParams(epsilon=args.epsilon, alpha=args.alpha, samples=args.samples)
+        if args.jobs is not None and args.jobs < 1:
+            raise UsageError(f"--jobs must be at least 1, got {args.jobs}")
+        blends = list(args.blend) or ([None] if bpy.data.filepath else [])
+        if not blends:
+            raise UsageError("no .blend file given")
+        for blend in blends:
+            if blend is not None and not blend.is_file():
+                raise UsageError(f"{blend}: no such file")
+        rows = []
+        for blend in blends:
+            print(f"{blend or bpy.data.filepath}:", flush=True)
+            row = process(blend, args, params, run, frames_mode, frame_range)
+            source = Path(bpy.data.filepath)
+            target = output_path(source, args, len(blends) > 1)
+            if args.in_place:
+                shutil.copy2(source, source.with_suffix(".blend1"))
+            bpy.ops.wm.save_as_mainfile(filepath=str(target), copy=not args.in_place)
+            row["output"] = str(target)
+            rows.append(row)
+    except (UsageError, SketchError) as exc:
+        print(f"batch_simplify: {exc}", file=sys.stderr)
+        return 2
+    seconds = time.perf_counter() - t0
+    total = {k: sum(r[k] for r in rows) for k in ("drawings", "strokes_in", "strokes_out")}
+    print(f"{len(rows)} file(s), {total['drawings']} drawing(s): {total['strokes_in']} strokes "
+          f"-> {total['strokes_out']} in {seconds:.2f} s")
+    for row in rows:
+        for s in row["skipped"]:
+            print(f"  skipped {s}")
+    if args.summary:
+        args.summary.write_text(json.dumps({"files": rows, **total, "seconds": seconds,
+                                            "params": params.as_dict()}, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    code = main()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)  # under Blender a plain exit would not carry the status
