@@ -198,12 +198,13 @@ def place_above(gp, layer, below) -> None:
 def write_results(obj, options, results: list[DrawingResult], context) -> object:
     """Write the results where ``options.output`` says; returns the object written to."""
     if options.as_curve:  # one curve object a layer, placed like the layer's strokes
-        target = None
+        target, done = None, set()
         for r in results:
-            name = f"{obj.name} {r.layer.name} simplified"
-            if name in context.blend_data.objects:
-                continue  # one drawing per layer: the first simplified
-            target = new_curve_object(name, obj, context.collection)
+            if r.layer.name in done:
+                continue  # a curve object holds one drawing of a layer: the first
+            done.add(r.layer.name)
+            target = new_curve_object(f"{obj.name} {r.layer.name} simplified", obj,
+                                      context.collection)
             target.matrix_world = obj.matrix_world @ r.layer.matrix_local
             write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
                                  r.new.handles_right, list(r.new.cyclic), r.new.radius)
@@ -242,6 +243,8 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             if options.hide_source:
                 layer.hide = True
         dest = made[layer.name]
-        for frame in r.frames:
-            write_strokes(dest.frames.new(frame.frame_number).drawing, r.new)
+        first = r.frames[0].frame_number
+        write_strokes(dest.frames.new(first).drawing, r.new)
+        for frame in r.frames[1:]:  # keyframes that shared the source drawing share this one
+            dest.frames.copy(first, frame.frame_number, instance_drawing=True)
     return target

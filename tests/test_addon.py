@@ -92,6 +92,8 @@ def test_all_keyframes_and_a_shared_drawing():
     assert sorted(f.frame_number for f in out.frames) == [1, 10, 20]
     by_frame = {f.frame_number: len(strokes_of(f.drawing)) for f in out.frames}
     assert by_frame[10] == by_frame[20] > 0 and by_frame[1] > 0
+    shared = {f.frame_number: f.drawing.as_pointer() for f in out.frames}
+    assert shared[10] == shared[20] != shared[1]  # still one drawing for both keyframes
     assert "2 drawing(s)" in bpy.context.scene.sketchsimp.last_run  # shared: simplified once
 
 
