@@ -149,9 +149,14 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             report.skipped.append(f"an empty drawing on '{layer.name}' frame "
                                   f"{frames[0].frame_number}")
             continue
-        points = np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
-                                 for k in chosen])
-        plane = drawing_plane(data.positions[points])
+        points = data.positions[np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
+                                                for k in chosen])]
+        points = points[np.isfinite(points).all(axis=1)]  # NaN points: the core drops them
+        if len(points) < 2:
+            report.skipped.append(f"a drawing without finite points on '{layer.name}' frame "
+                                  f"{frames[0].frame_number}")
+            continue
+        plane = drawing_plane(points)
         prepared.append((layer, frames, data, chosen, plane, to_sketch(data, chosen, plane)))
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import shapely
 from blender_scene import (
+    GP_DATA,
     SCALE,
     clear_scene,
     drawn_strokes,
@@ -326,3 +327,24 @@ def test_many_keyframes_go_through_the_process_pool():
     assert report.drawings == 5 and len(pooled) == 5
     for r in results:  # the same strokes, one process or several
         assert len(r.new.knots) == len(pooled[r.frames[0].frame_number])
+
+
+def test_nan_points_and_an_object_without_layers():
+    ob = make_object({1: "house"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    attrs = drawing.attributes
+    n = attrs.domain_size("POINT")
+    pos = np.empty(n * 3, np.float32)
+    attrs["position"].data.foreach_get("vector", pos)
+    pos[3:9] = np.nan  # two points of the first stroke
+    attrs["position"].data.foreach_set("vector", pos)
+    before = snapshot(drawing)
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    assert snapshot(drawing) == before
+    out = evaluated(ob.data.layers["Lines simplified"].frames[0].drawing)
+    assert np.isfinite(out).all()
+    bare = bpy.data.objects.new("Bare", GP_DATA.new("Bare"))  # no layers at all
+    bpy.context.scene.collection.objects.link(bare)
+    bpy.context.view_layer.objects.active = bare
+    with pytest.raises(RuntimeError, match="Nothing to simplify"):
+        bpy.ops.sketchsimp.simplify()
