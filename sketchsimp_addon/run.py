@@ -13,6 +13,7 @@ import numpy as np
 
 from ..core import SimplifyParams, simplify
 from ..core.parallel import default_jobs, simplify_all
+from ..core.replay_cache import ReplayCache
 from ..core.sketch import SketchError
 from .convert import drawing_from_polylines, drawing_plane, to_new_strokes, to_sketch
 from .curve_io import new_curve_object, read_curve, write_bezier_splines
@@ -108,6 +109,8 @@ def source_frames(layer, scope: str, frame_number: int) -> list:
 
 #: from this many drawings on, the core runs them in a pool of processes
 POOL_FROM = 4
+#: runs kept for replay: changing epsilon in the redo panel re-runs the operator
+REPLAY = ReplayCache()
 
 
 def collect_drawings(obj, options, frame_number: int, report: RunReport,
@@ -134,8 +137,9 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
 
     Drawings are read here, simplified by the core (in ``jobs`` processes; by default a
-    pool of all cores from :data:`POOL_FROM` drawings on), and turned into new strokes
-    here. ``progress`` is called with the fraction of drawings done.
+    pool of all cores from :data:`POOL_FROM` drawings on; in this process through the
+    :data:`REPLAY` cache, so that a new epsilon for the same drawing is a replay), and
+    turned into new strokes here. ``progress`` is called with the fraction of drawings done.
     """
     report = RunReport()
     t0 = time.perf_counter()
@@ -160,9 +164,19 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         prepared.append((layer, frames, data, chosen, plane, to_sketch(data, chosen, plane)))
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
-    outputs = simplify_all([p[-1] for p in prepared], params, jobs,
-                           None if progress is None else lambda done, total:
-                           progress(done / total))
+    if jobs == 1:  # here, through the replay cache: the redo panel's slider replays
+        outputs = []
+        for k, item in enumerate(prepared):
+            try:
+                outputs.append(REPLAY.strokes(item[-1], params))
+            except SketchError as exc:
+                outputs.append(exc)
+            if progress is not None:
+                progress((k + 1) / len(prepared))
+    else:
+        outputs = simplify_all([p[-1] for p in prepared], params, jobs,
+                               None if progress is None else lambda done, total:
+                               progress(done / total))
     results = []
     for (layer, frames, data, chosen, plane, _), strokes in zip(prepared, outputs):
         if isinstance(strokes, SketchError):

@@ -348,3 +348,16 @@ def test_nan_points_and_an_object_without_layers():
     bpy.context.view_layer.objects.active = bare
     with pytest.raises(RuntimeError, match="Nothing to simplify"):
         bpy.ops.sketchsimp.simplify()
+
+
+def test_a_new_epsilon_in_the_redo_panel_is_a_replay():
+    from sketchsimp.sketchsimp_addon import run
+    ob = make_object({1: "fish"})
+    runs = run.REPLAY.runs
+    assert bpy.ops.sketchsimp.simplify(epsilon=0.02, output="REPLACE") == {"FINISHED"}
+    replaced = len(strokes_of(ob.data.layers["Lines"].frames[0].drawing))
+    clear_scene()
+    ob = make_object({1: "fish"})  # the same drawing again, as after an undo
+    assert bpy.ops.sketchsimp.simplify(epsilon=0.01, output="REPLACE") == {"FINISHED"}
+    assert run.REPLAY.runs == runs + 1  # the second epsilon was replayed, not re-run
+    assert len(strokes_of(ob.data.layers["Lines"].frames[0].drawing)) >= replaced

@@ -260,3 +260,19 @@ def test_random_sketches_simplify_without_straying_from_the_ink(raw):
     ink = shapely.union_all(lines_from([s for s in strokes if np.ptp(s, axis=0).max() > 0]))
     with np.errstate(divide="ignore", invalid="ignore", under="ignore"):  # GEOS, 1e-200
         assert shapely.distance(shapely.points(out), ink).max() <= 2 * d_eps
+
+
+def test_replay_cache_gives_fresh_results_and_runs_once():
+    from core.replay_cache import ReplayCache
+    sketch = read_sketch(SAMPLES / "cup.scap")
+    cache = ReplayCache()
+    for eps in (0.015, 0.005, 0.02, 0.0):
+        got = cache.strokes(sketch, SimplifyParams(epsilon=eps))
+        fresh = simplify(sketch, SimplifyParams(epsilon=eps)).strokes
+        assert len(got) == len(fresh)
+        for a, b in zip(got, fresh):
+            np.testing.assert_array_equal(a.bezier, b.bezier)
+    assert cache.runs == 1  # every epsilon up to 0.03 replayed from one run
+    cache.strokes(sketch, SimplifyParams(epsilon=0.05))
+    cache.strokes(sketch, SimplifyParams(epsilon=0.015, alpha=0.02))
+    assert cache.runs == 3  # beyond what the run covered, and other parameters

@@ -1,0 +1,59 @@
+"""Results kept to be replayed at other epsilons: what makes a slider (Blender's redo
+panel re-running the operator on every change) cheap.
+
+A sketch is simplified once at a generous epsilon; any smaller epsilon is then the replay
+of a prefix of its merge history (``SimplifyResult.at``), which equals a fresh run exactly.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections import OrderedDict
+from dataclasses import replace
+
+import numpy as np
+
+from .params import SimplifyParams
+from .simplify import SimplifyResult, simplify
+from .sketch import Sketch, Stroke
+
+#: the epsilon a cached run covers at least: the top of the paper's useful range
+COVERED_EPSILON = 0.03
+
+
+def sketch_digest(sketch: Sketch) -> str:
+    """A fingerprint of everything simplify reads from a sketch."""
+    h = hashlib.blake2b(digest_size=16)
+    for s in sketch.strokes:
+        h.update(np.ascontiguousarray(s.points).tobytes())
+        for extra in (s.width, s.pressure):
+            h.update(b"-" if extra is None else np.ascontiguousarray(extra).tobytes())
+        h.update(f"|{s.style}|{s.source_id}|{len(s.points)};".encode())
+    return h.hexdigest()
+
+
+class ReplayCache:
+    """The last few simplify results, by sketch and by every parameter but epsilon."""
+
+    def __init__(self, size: int = 8) -> None:
+        self.size = size
+        self.runs = 0  # how many times simplify actually ran
+        self._results: OrderedDict[tuple, SimplifyResult] = OrderedDict()
+
+    def result(self, sketch: Sketch, params: SimplifyParams) -> SimplifyResult:
+        """The result ``simplify(sketch, params)`` gives, replayed from a cached run when
+        one covers ``params.epsilon``."""
+        key = (sketch_digest(sketch), replace(params, epsilon=0.0))
+        cached = self._results.get(key)
+        if cached is None or cached.params.epsilon < params.epsilon:
+            self.runs += 1
+            cover = max(params.epsilon, COVERED_EPSILON)
+            cached = simplify(sketch, replace(params, epsilon=cover))
+            self._results[key] = cached
+            while len(self._results) > self.size:
+                self._results.popitem(last=False)
+        self._results.move_to_end(key)
+        return cached if cached.params.epsilon == params.epsilon else cached.at(params.epsilon)
+
+    def strokes(self, sketch: Sketch, params: SimplifyParams) -> list[Stroke]:
+        return self.result(sketch, params).strokes
