@@ -14,7 +14,7 @@ STAMP45 := $(VENV45)/.installed
 help:
 	@echo "make demo       set up, then simplify the bundled samples (SVG, and a .blend via the operator) into out/"
 	@echo "make test       set up, then run the whole test suite (add-on on Blender 5.0 and 4.5)"
-	@echo "make benchmark  timings and quality scores over ../shared/data"
+	@echo "make benchmark  the report: reports/benchmark/index.html over ../shared/data"
 	@echo "make extension  build dist/sketchsimp-<version>-<platform>.zip for Blender"
 	@echo "make lint       ruff"
 
@@ -50,7 +50,7 @@ extension: $(STAMP)
 
 benchmark: $(STAMP)
 	$(PY) scripts/bench_complex.py
-	$(PY) scripts/bench_simplify.py
+	$(PY) scripts/report.py
 
 clean:
 	rm -rf $(VENV) $(VENV45) dist out reports .pytest_cache .hypothesis
