@@ -35,7 +35,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from bench_complex import rough_files, sketch_name  # noqa: E402
-from bench_simplify import intended_curves, synthetic  # noqa: E402
+from bench_simplify import intended_curves  # noqa: E402
 
 from core import SimplifyParams, read_sketch, simplify  # noqa: E402
 from core.geometry import lines_from, split_coordinates  # noqa: E402
