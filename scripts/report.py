@@ -204,17 +204,18 @@ def write_html(rows: list[dict], medians: dict, scale: dict | None, out_dir: Pat
         f"{scale_html}<h2>Every sketch</h2>{cards}")
 
 
-def update_readme(medians: dict, n: int, scale: dict | None) -> None:
+def update_readme(medians: dict, n: int, scale: dict | None, selection: str = "") -> None:
     s = medians["sketchsimp"]
-    lines = [f"Over the {n} real sketches of `../shared/data` at the default epsilon "
+    lines = [f"Over {n} real sketches of `../shared/data`{selection} at the default epsilon "
              f"{DEFAULT} (`python scripts/report.py --readme` regenerates this):", "",
              "| method | strokes per intended curve | ink coverage | distance to ink (px) | "
              "F-score vs reference |", "|---|---|---|---|---|"]
     for m, label in (("input", "the rough input"), ("douglas_peucker", "per-stroke "
                      "Douglas-Peucker"), ("sketchsimp", "**SketchSimp**")):
         v = medians[m]
+        f = "-" if v.get("f_score") is None else f"{v['f_score']:.3f}"
         lines.append(f"| {label} | {v['per_intended']:.2f} | {v['coverage']:.3f} | "
-                     f"{v['fidelity_px']:.2f} | {v.get('f_score') or 0:.3f} |")
+                     f"{v['fidelity_px']:.2f} | {f} |")
     lines += ["", f"Median {s['seconds']:.2f} s per sketch on one core"
               + (f"; time grows as strokes^{scale['time_exponent']:.2f}" if scale else "")
               + ".", "", "![before and after](docs/before_after.png)"]
@@ -273,7 +274,9 @@ def main() -> int:
         print(f"{m:16s} " + ", ".join(f"{k} {x:.3f}" for k, x in v.items() if x is not None))
     print(f"wrote {args.out / 'index.html'}")
     if args.readme:
-        update_readme(medians, len(rows), scale)
+        selection = (f" (those matching '{args.only}')" if args.only else "") + (
+            f" (the first {args.limit})" if args.limit else "")
+        update_readme(medians, len(rows), scale, selection)
         print("README.md Results section updated")
     return 0
 
