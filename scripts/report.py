@@ -10,6 +10,7 @@ mean distance to the ink, precision/recall/F and Chamfer distance against full_f
 same process (the input itself, and per-stroke Douglas-Peucker, what Blender's Simplify
 does); an epsilon sweep from one agglomeration per sketch (its merge history replayed);
 and time and peak memory against size on synthetic sketches, with the fitted exponents.
+Sketches are scored in ``--jobs`` processes (each timed on its own core).
 ``--readme`` rewrites the Results section of README.md from the medians.
 """
 
@@ -18,10 +19,12 @@ from __future__ import annotations
 import argparse
 import html
 import json
+import multiprocessing
 import re
 import subprocess
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +43,7 @@ from bench_simplify import intended_curves  # noqa: E402
 from core import SimplifyParams, read_sketch, simplify  # noqa: E402
 from core.geometry import lines_from, split_coordinates  # noqa: E402
 from core.metrics import chamfer, coverage, fidelity, precision_recall_f  # noqa: E402
+from core.parallel import default_jobs  # noqa: E402
 
 EPSILONS = (0.005, 0.01, 0.015, 0.02, 0.03, 0.05)
 DEFAULT = SimplifyParams().epsilon
@@ -242,6 +246,8 @@ def main() -> int:
     ap.add_argument("--only", default="")
     ap.add_argument("--scaling", default="100,1000,10000", help="'' to skip")
     ap.add_argument("--readme", action="store_true", help="rewrite README's Results section")
+    ap.add_argument("--jobs", type=int, default=default_jobs(),
+                    help="sketches scored at once, one process each (default: every core)")
     args = ap.parse_args()
     files = rough_files(args.data) if args.data.is_dir() else []
     if not files:
@@ -253,12 +259,16 @@ def main() -> int:
     for old in (args.out / "sketches").glob("*.png"):  # pictures of an earlier run
         old.unlink()
     rows = []
-    for k, path in enumerate(files):
-        name = sketch_name(path, args.data)
-        bar = "#" * int(30 * k / len(files))
-        print(f"\r[{bar:30s}] {k}/{len(files)} {name[:50]:50s}", end="", flush=True)
-        rows.append(score_sketch(path, name, args.out))
-    print(f"\r[{'#' * 30}] {len(files)}/{len(files)}{' ' * 52}")
+    names = [sketch_name(p, args.data) for p in files]
+    with ProcessPoolExecutor(max_workers=max(1, args.jobs),
+                             mp_context=multiprocessing.get_context("spawn")) as pool:
+        done = pool.map(score_sketch, files, names, [args.out] * len(files))
+        for k, row in enumerate(done):
+            rows.append(row)
+            bar = "#" * int(30 * (k + 1) / len(files))
+            print(f"\r[{bar:30s}] {k + 1}/{len(files)} {row['name'][:50]:50s}", end="",
+                  flush=True)
+    print()
     medians = {m: {k: median(rows, m, k) for k in ("strokes", "per_intended", "coverage",
                                                     "fidelity_px", "f_score", "chamfer_px")}
                for m in ("input", "douglas_peucker", "sketchsimp")}
