@@ -76,6 +76,7 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
     fds: dict[int, np.ndarray] = {}
     weights = [1.0] * len(pts)
     free = [e.free for e in edges]
+    perimeter = [e.perimeter for e in edges]  # a merged edge bounds no one patch: inf
     parent = list(range(len(pts)))
 
     def find(x: int) -> int:
@@ -128,11 +129,10 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
         fds[n] = new_fd
         weights.append(weights[a] + weights[b])
         free.append(False)
+        perimeter.append(np.inf)
         parent.append(n)
         parent[a] = parent[b] = n
-    perim = {k: e.perimeter for k, e in enumerate(edges)}
-    return [Edge(pts[k], perim.get(k, np.inf), free[k]) for k in range(len(pts))
-            if parent[k] == k]
+    return [Edge(pts[k], perimeter[k], free[k]) for k in range(len(pts)) if parent[k] == k]
 
 
 def renode(edges: list[Edge]) -> list[Edge]:
