@@ -40,7 +40,7 @@ from .complex_state import ComplexState, Merge
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance, fourier_descriptors
 from .geometry import lines_from, resample_polyline
-from .guard import DistanceGuard
+from .guard import DistanceGuard, PatchCurves
 from .params import SimplifyParams
 from .patch_rings import (
     Outline,
@@ -54,6 +54,9 @@ from .patch_rings import (
 INF = math.inf
 #: stale patch-patch pairs are keyed by this fraction of their parents' cheapest cost
 PP_ESTIMATE = 0.7
+#: shapes described together when the queue is first filled (a batch of 256 rings takes
+#: about 1 MB of samples)
+COST_BATCH = 256
 
 
 @dataclass
@@ -83,6 +86,7 @@ class Agglomerator:
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
         self.heap: list[tuple] = []
+        self._compacted_size = COST_BATCH
         self.order = 0
         self.history: list[Merge] = []
         self.stats = AgglomerationStats()
@@ -106,35 +110,40 @@ class Agglomerator:
             self.curve_fd[c] = curve_descriptors([self.state.curves[c]], self.params.samples)[0]
         return self.curve_fd[c]
 
+    def _size(self, p: int) -> float:
+        """Linear size of a patch: the square root of its outer ring's area."""
+        return math.sqrt(max(self.geometry.area(self.rings[p][0]), 0.0))
+
     # -- costs -------------------------------------------------------------------------------
     def _outline(self, p: int) -> Outline:
         if p not in self.outlines:
             self.outlines[p] = Outline(self.rings[p][0], self.geometry)
         return self.outlines[p]
 
-    def _cost_pp(self, p: int, q: int) -> float:
+    def _pp_outline(self, p: int, q: int) -> np.ndarray | None:
+        """The outer ring of P u Q, or None when the pair may not merge."""
         st = self.state
         shared = st.shared_curves(p, q)
         if not shared:
-            return INF
-        allowed = (st.patch_curves[p] | st.patch_curves[q]) - set(shared)
+            return None
+        allowed = PatchCurves(st.patch_curves[p], st.patch_curves[q], shared)
         if not self.guard.covered(shared, allowed):
-            return INF
+            return None
         # the union's outer ring, all a descriptor needs: quick when the shared curves are
         # one run on both outer rings (holes do not change it), else the general walk
         points = union_outline_points(self._outline(p), self._outline(q), shared)
         if points is None:
             rings = union_rings(self.rings[p], self.rings[q], shared, self.geometry)
             if not rings:
-                return INF
+                return None
             points = self.geometry.points(rings[0])
         x, y = points[:, 0], points[:, 1]
         if x[:-1] @ y[1:] - x[1:] @ y[:-1] + x[-1] * y[0] - x[0] * y[-1] <= 0:
-            return INF  # not a face: the union turned inside out
-        new = self._fds([points])[0]
-        return float(min(fd_distance(self._patch_fd(p), new), fd_distance(self._patch_fd(q), new)))
+            return None  # not a face: the union turned inside out
+        return points
 
-    def _cost_cp(self, c: int, p: int) -> float:
+    def _cp_outline(self, c: int, p: int) -> np.ndarray | None:
+        """P's outer ring with curve C walked out and back where it touches, or None."""
         st = self.state
         if c < len(self.guard.samples):
             covered = self.guard.covered([c], st.patch_curves[p])
@@ -142,38 +151,49 @@ class Agglomerator:
             covered = self.guard.covered([], st.patch_curves[p],
                                          resample_polyline(st.curves[c], self.d_eps / 2))
         if not covered:
-            return INF
+            return None
         ends = {int(n) for e in st.patch_curves[p] for n in self.geometry.curve_nodes[e]}
         nodes = sorted(st.curve_nodes[c] & ends)
         if not nodes:
-            return INF
-        node = nodes[0]
-        anchor = st.base.nodes[node]
-        ring = self.geometry.with_spike(self.rings[p][0], node,
+            return None
+        anchor = st.base.nodes[nodes[0]]
+        return self.geometry.with_spike(self.rings[p][0], nodes[0],
                                         spike_walk(st.curves[c], anchor))
-        new = self._fds([ring])[0]
-        return float(fd_distance(self._patch_fd(p), new))
 
-    def _cost_cc(self, a: int, b: int) -> tuple[float, np.ndarray | None]:
+    def _cc_curve(self, a: int, b: int) -> np.ndarray | None:
+        """The curve that would replace A and B, or None when they do not pair."""
         st = self.state
         how, merged = pair_and_merge(self._sampled(a), st.curve_weight[a], self._sampled(b),
                                      st.curve_weight[b], self.d_eps, self.params.angle)
-        if how is None:
-            return INF, None
-        new = curve_descriptors([merged], self.params.samples)[0]
-        cost = min(fd_distance(self._curve_fd(a), new), fd_distance(self._curve_fd(b), new))
-        return float(cost), merged
+        return merged if how is not None else None
+
+    def _costs(self, kind: str, pairs: list[tuple[int, int]]) -> list[float]:
+        """Costs of many pairs of one kind, their new shapes described in one batch.
+
+        PP: min(d(P, P u Q), d(Q, P u Q)); CP: d(P, P u C); CC: min(d(A, M), d(B, M)).
+        """
+        self.stats.pairs_costed[kind] += len(pairs)
+        make = {"PP": self._pp_outline, "CP": self._cp_outline, "CC": self._cc_curve}[kind]
+        shapes = [make(a, b) for a, b in pairs]
+        valid = [i for i, shape in enumerate(shapes) if shape is not None]
+        costs = [INF] * len(pairs)
+        if valid:
+            describe = curve_descriptors if kind == "CC" else fourier_descriptors
+            new = describe([shapes[i] for i in valid], self.params.samples)
+            ref = self._curve_fd if kind == "CC" else self._patch_fd
+            first = np.stack([ref(pairs[i][0 if kind != "CP" else 1]) for i in valid])
+            dist = fd_distance(first, new)
+            if kind != "CP":
+                dist = np.minimum(dist, fd_distance(
+                    np.stack([ref(pairs[i][1]) for i in valid]), new))
+            for i, d in zip(valid, dist.tolist()):
+                costs[i] = d
+        for (a, b), cost in zip(pairs, costs):
+            self.known[(kind, a, b)] = cost
+        return costs
 
     def _cost(self, kind: str, a: int, b: int) -> float:
-        self.stats.pairs_costed[kind] += 1
-        if kind == "PP":
-            cost = self._cost_pp(a, b)
-        elif kind == "CP":
-            cost = self._cost_cp(a, b)
-        else:
-            cost = self._cost_cc(a, b)[0]
-        self.known[(kind, a, b)] = cost
-        return cost
+        return self._costs(kind, [(a, b)])[0]
 
     # -- the queue ---------------------------------------------------------------------------
     def _push(self, cost: float, kind: str, a: int, b: int, fresh: bool) -> None:
@@ -181,24 +201,32 @@ class Agglomerator:
             heapq.heappush(self.heap, (cost, self.order, kind, a, b, fresh))
             self.order += 1
 
-    def _offer(self, kind: str, a: int, b: int, parents: list[tuple]) -> None:
+    def _offer(self, kind: str, a: int, b: int, parents: list[tuple],
+               growth: list[float] | None = None) -> None:
         """Queue a pair of a new primitive with what its parents' pairs were worth.
 
-        Stale under the cheapest cost a parent pair had. Costed now when no parent pair was
+        Stale under the cheapest cost a parent pair had, each scaled by ``growth`` (for a
+        grown patch, how much smaller the parent was). Costed now when no parent pair was
         ever costed, or when every parent pair of two patches was refused (the grown patch
         may pass the guard); left out when every parent pair of a curve was refused.
         """
-        known = [self.known[key] for key in parents if key in self.known]
+        growth = growth or [1.0] * len(parents)
+        # a parent pair is asked once, when one of its primitives merges: then let it go
+        known = [self.known.pop(key) * g for key, g in zip(parents, growth)
+                 if key in self.known]
         if not known or (kind == "PP" and min(known) == INF):
             # a grown patch may pass the guard where its parts did not: look again
             self._push(self._cost(kind, a, b), kind, a, b, True)
             return
-        # a patch that grew may unite more cheaply with a neighbour than its parts did:
-        # lower the estimate, so that such pairs surface and are re-costed in time
-        estimate = min(known) * (PP_ESTIMATE if kind == "PP" else 1.0)
-        self.known[(kind, a, b)] = estimate  # what this pair's own children will inherit
+        # the Fourier distance of a patch to its union with a small neighbour falls as the
+        # patch grows: the estimate follows the growth in size, and is keyed lower still so
+        # that pairs which became cheap surface in time. Children inherit the estimate, not
+        # the key: discounting at every growth would decay a busy patch's pairs to nothing
+        # and re-cost them all each time it absorbs a sliver.
+        estimate = min(known)
+        self.known[(kind, a, b)] = estimate
         if estimate < INF:
-            self._push(estimate, kind, a, b, False)
+            self._push(estimate * (PP_ESTIMATE if kind != "CC" else 1.0), kind, a, b, False)
 
     def _alive(self, kind: str, a: int, b: int) -> bool:
         st = self.state
@@ -213,24 +241,35 @@ class Agglomerator:
 
     def _initial_pairs(self) -> None:
         st = self.state
+        for k in range(0, len(self.rings), COST_BATCH):  # the base patches' descriptors
+            batch = self.rings[k:k + COST_BATCH]
+            fds = self._fds([self.geometry.points(rings[0]) for rings in batch])
+            self.patch_fd.update(zip(range(k, k + len(batch)), fds))
         pp = sorted({(min(a, b), max(a, b)) for a, b in st.curve_sides if a != b and a >= 0
                      and b >= 0})
-        for p, q in pp:
-            self._push(self._cost("PP", p, q), "PP", p, q, True)
+        self._push_costed("PP", pp)
         free = [c for c in range(len(st.curves)) if st.is_free(c)]
-        for c in free:
-            for p in sorted({p for n in st.curve_nodes[c] for p in st.patches_at_node(n)}):
-                self._pair_cp(c, p)
-                self._push(self._cost("CP", c, p), "CP", c, p, True)
+        cp = [(c, p) for c in free
+              for p in sorted({p for n in st.curve_nodes[c] for p in st.patches_at_node(n)})]
+        for c, p in cp:
+            self._pair_cp(c, p)
+        self._push_costed("CP", cp)
         if len(free) > 1:
             lines = self.lines[free]
             i, j = shapely.STRtree(lines).query(lines, predicate="dwithin",
                                                 distance=self.d_eps)
-            for a, b in sorted({(free[x], free[y]) for x, y in zip(i.tolist(), j.tolist())
-                                if x < y}):
+            cc = sorted({(free[x], free[y]) for x, y in zip(i.tolist(), j.tolist()) if x < y})
+            for a, b in cc:
                 self.cc_partners.setdefault(a, set()).add(b)
                 self.cc_partners.setdefault(b, set()).add(a)
-                self._push(self._cost("CC", a, b), "CC", a, b, True)
+            self._push_costed("CC", cc)
+
+    def _push_costed(self, kind: str, pairs: list[tuple[int, int]]) -> None:
+        """Cost pairs in batches (of a size that keeps the samples small) and queue them."""
+        for k in range(0, len(pairs), COST_BATCH):
+            batch = pairs[k:k + COST_BATCH]
+            for (a, b), cost in zip(batch, self._costs(kind, batch)):
+                self._push(cost, kind, a, b, True)
 
     def _neighbour_patches(self, r: int) -> set[int]:
         st = self.state
@@ -244,8 +283,12 @@ class Agglomerator:
             r = st.merge_patches(a, b)
             self.rings.append(rings)
             self.history.append(Merge("PP", cost, a, b, r))
+            size = self._size(r)
+            growth = [self._size(x) / size if size > 0 else 1.0 for x in (a, b)]
+            self._forget(a)
+            self._forget(b)
             for t in sorted(self._neighbour_patches(r)):
-                self._offer("PP", t, r, [("PP", min(x, t), max(x, t)) for x in (a, b)])
+                self._offer("PP", t, r, [("PP", min(x, t), max(x, t)) for x in (a, b)], growth)
             partners = self.cp_partners.pop(a, set()) | self.cp_partners.pop(b, set())
             for c in sorted(x for x in partners if st.curve_alive[x]):
                 self._pair_cp(c, r)
@@ -254,7 +297,7 @@ class Agglomerator:
             st.remove_curve(a)
             self.history.append(Merge("CP", cost, a, b, b))
         else:
-            _, merged = self._cost_cc(a, b)
+            merged = self._cc_curve(a, b)
             n = st.merge_curves(a, b, merged)
             self.history.append(Merge("CC", cost, a, b, n, merged))
             partners = (self.cc_partners.pop(a, set()) | self.cc_partners.pop(b, set())) - {a, b}
@@ -267,6 +310,21 @@ class Agglomerator:
                 self._pair_cp(n, p)
                 self._push(self._cost("CP", n, p), "CP", n, p, True)
         self.stats.merges[kind] += 1
+
+    def _forget(self, p: int) -> None:
+        """Drop what was kept of a patch that merged away (its ring is read no more once
+        its successor's pairs are offered, which only needs sizes computed before)."""
+        self.rings[p] = []
+        self.outlines.pop(p, None)
+        self.patch_fd.pop(p, None)
+
+    def _compact(self) -> None:
+        """Drop queue entries of merged-away primitives once they are most of the queue;
+        the order of the rest is kept (it is fixed by their (cost, order) keys)."""
+        if len(self.heap) > 2 * self._compacted_size:
+            self.heap = [e for e in self.heap if self._alive(e[2], e[3], e[4])]
+            heapq.heapify(self.heap)
+            self._compacted_size = max(len(self.heap), COST_BATCH)
 
     def _target_reached(self) -> bool:
         tp, tc = self.params.target_patches, self.params.target_curves
@@ -288,6 +346,7 @@ class Agglomerator:
             if cost >= eps:
                 break
             self._apply(kind, a, b, cost)
+            self._compact()
         return self.history
 
 

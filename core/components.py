@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
+import shapely
 
 
-def component_labels(n: int, pairs: np.ndarray) -> np.ndarray:
+def component_labels(n: int, pairs: np.ndarray | Iterable[np.ndarray]) -> np.ndarray:
     """Labels 0..k-1 of ``n`` items such that the two items of every pair share one.
 
-    Labels are numbered in order of each component's smallest item.
+    ``pairs`` is a (m, 2) array or an iterable of such arrays (chunks, so that a huge set
+    of pairs need not exist at once). Labels are numbered in order of each component's
+    smallest item.
     """
     parent = list(range(n))
 
@@ -18,9 +23,34 @@ def component_labels(n: int, pairs: np.ndarray) -> np.ndarray:
             a = parent[a]
         return a
 
-    for a, b in np.asarray(pairs, dtype=np.intp).reshape(-1, 2).tolist():
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
+    chunks = [pairs] if isinstance(pairs, np.ndarray) else pairs
+    for chunk in chunks:
+        for a, b in np.asarray(chunk, dtype=np.intp).reshape(-1, 2).tolist():
+            ra, rb = find(a), find(b)
+            if ra != rb:
+                parent[max(ra, rb)] = min(ra, rb)
     roots = np.array([find(a) for a in range(n)], dtype=np.intp)
     return np.unique(roots, return_inverse=True)[1]
+
+
+def cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -> np.ndarray:
+    """Labels of ``points`` such that any two within ``radius`` share one (single linkage),
+    numbered in order of each cluster's first point.
+
+    Equal points are merged first (many ends meet at a busy junction, and their pairs grow
+    with the square of its degree), and the neighbours within ``radius`` are found a chunk
+    of points at a time, so that memory stays bounded however dense the points are.
+    """
+    unique, inverse = np.unique(points, axis=0, return_inverse=True)
+    geoms = shapely.points(unique)
+    tree = shapely.STRtree(geoms)
+
+    def pairs():
+        for k in range(0, len(geoms), chunk):
+            i, j = tree.query(geoms[k:k + chunk], predicate="dwithin", distance=radius)
+            i = i + k
+            yield np.stack([i[i < j], j[i < j]], axis=1)
+
+    labels = component_labels(len(unique), pairs())[inverse.ravel()]
+    _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
+    return np.argsort(np.argsort(first))[inverse.ravel()]

@@ -5,8 +5,8 @@ R(t) is transformed with the FFT; the descriptor is |a_1..a_N/2| / |a_0|. Two sh
 by the Euclidean distance of their descriptors. Magnitudes make it independent of the start
 point and rotation, the centroid of translation, and dividing by |a_0| of scale.
 
-Rings are resampled one at a time with np.interp: for the few hundred points of a ring
-that beats batched fancy indexing, and the merge loop asks for one or two at a time.
+Many rings are resampled at once with one np.interp over their arcs laid end to end, and
+transformed with one FFT: the merge loop costs many pairs in a batch.
 
 A curve is described as the slender ring p0 .. p_n-1, p_n-2 .. p1 (walked there and back).
 """
@@ -26,18 +26,39 @@ def slender_ring(curve: np.ndarray) -> np.ndarray:
 def resample_ring(ring: np.ndarray, n: int) -> np.ndarray:
     """A closed ring (first point not repeated) resampled to ``n`` points evenly spaced by
     arc length, starting at its first point."""
-    closed = np.concatenate([ring, ring[:1]])
-    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    t = np.arange(n) * (s[-1] / n)
-    return np.stack([np.interp(t, s, closed[:, 0]), np.interp(t, s, closed[:, 1])], axis=1)
+    return resample_rings([ring], n)[0]
+
+
+def resample_rings(rings: list[np.ndarray], n: int) -> np.ndarray:
+    """Rings resampled as by :func:`resample_ring`, all at once: (len(rings), n, 2)."""
+    closed = [np.concatenate([r, r[:1]]) for r in rings]
+    return _sample_end_to_end(closed, n, lambda t, length: t * length)
+
+
+def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
+    """Samples of many polylines at arc positions ``where(k / n, length)``, k < n.
+
+    The polylines are laid end to end on one arc-length axis, each starting one unit past
+    the end of the one before, so that a single ``np.interp`` serves them all.
+    """
+    points = np.concatenate(lines)
+    sizes = np.array([len(line) for line in lines])
+    ends = np.cumsum(sizes) - 1
+    seg = np.hypot(*np.diff(points, axis=0).T)
+    seg[ends[:-1]] = 1.0  # the step from one polyline to the next
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    start = s[ends - sizes + 1]
+    length = s[ends] - start
+    t = (start[:, None] + where(np.arange(n) / n, length[:, None])).ravel()
+    out = np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
+    return out.reshape(len(lines), n, 2)
 
 
 def fourier_descriptors(rings: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.ndarray:
     """Descriptors (len(rings), n // 2) of closed rings given as (k, 2) point arrays."""
-    out = np.empty((len(rings), n // 2))
-    for k, ring in enumerate(rings):
-        out[k] = _descriptor_of_samples(resample_ring(ring, n), n)
-    return out
+    if not rings:
+        return np.empty((0, n // 2))
+    return _descriptors_of_samples(resample_rings(rings, n), n)
 
 
 def fourier_descriptor(ring: np.ndarray, n: int = DEFAULT_SAMPLES) -> np.ndarray:
@@ -51,21 +72,20 @@ def curve_descriptors(curves: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.
     The slender ring is resampled directly: arc position t along the ring of length 2L is
     the curve's point at t for t < L and at 2L - t after, so it is never built.
     """
-    out = np.empty((len(curves), n // 2))
-    for k, curve in enumerate(curves):
-        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(curve, axis=0).T))])
-        t = np.arange(n) * (2.0 * s[-1] / n)
-        u = np.where(t <= s[-1], t, 2.0 * s[-1] - t)
-        samples = np.stack([np.interp(u, s, curve[:, 0]), np.interp(u, s, curve[:, 1])], axis=1)
-        out[k] = _descriptor_of_samples(samples, n)
-    return out
+    if not curves:
+        return np.empty((0, n // 2))
+    samples = _sample_end_to_end(list(curves), n,
+                                 lambda t, length: length - np.abs(length - 2.0 * t * length))
+    return _descriptors_of_samples(samples, n)
 
 
-def _descriptor_of_samples(samples: np.ndarray, n: int) -> np.ndarray:
-    centre = samples.sum(axis=0) / n
-    radius = np.sqrt(((samples - centre) ** 2).sum(axis=1))
-    coeffs = np.abs(np.fft.rfft(radius))
-    return coeffs[1:] / coeffs[0] if coeffs[0] > 0 else np.zeros(n // 2)
+def _descriptors_of_samples(samples: np.ndarray, n: int) -> np.ndarray:
+    """Descriptors of (m, n, 2) evenly spaced samples; a shape with no extent gets zeros."""
+    centre = samples.sum(axis=1, keepdims=True) / n
+    radius = np.sqrt(((samples - centre) ** 2).sum(axis=2))
+    coeffs = np.abs(np.fft.rfft(radius, axis=1))
+    a0 = coeffs[:, :1]
+    return np.divide(coeffs[:, 1:], a0, out=np.zeros((len(samples), n // 2)), where=a0 > 0)
 
 
 def fd_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -15,48 +15,80 @@ import shapely
 from .geometry import resample_polyline
 
 
+class PatchCurves:
+    """The curves of two patches except the ones they share, as a view: a big patch has
+    thousands of curves and the guard only asks about a few of them."""
+
+    def __init__(self, p: set[int], q: set[int], shared: list[int]) -> None:
+        self.p, self.q, self.shared = p, q, set(shared)
+
+    def __contains__(self, c: int) -> bool:
+        return (c in self.p or c in self.q) and c not in self.shared
+
+    def __bool__(self) -> bool:
+        return len(self.p) + len(self.q) - 2 * len(self.shared) > 0
+
+
+def _meets(curves: np.ndarray, allowed: set[int] | PatchCurves) -> bool:
+    """Whether any of ``curves`` is allowed, with set operations rather than a loop."""
+    if isinstance(allowed, PatchCurves):
+        rest = set(curves.tolist()) - allowed.shared
+        return not (rest.isdisjoint(allowed.p) and rest.isdisjoint(allowed.q))
+    return not allowed.isdisjoint(curves.tolist())
+
+
 class DistanceGuard:
     def __init__(self, curves: list[np.ndarray], lines: np.ndarray, d_eps: float) -> None:
         self.d_eps = d_eps
         self.lines = lines
         self.tree = shapely.STRtree(lines)
         self.samples = [resample_polyline(c, d_eps / 2) for c in curves]
-        self._cover: dict[int, set[int]] = {}
-        self._near: dict[int, frozenset[int]] = {}  # curves whose box meets c's, widened
+        # kept as small int arrays: in a dense sketch a curve has a hundred covers, and
+        # Python sets of them would take hundreds of MB
+        self._cover: dict[int, np.ndarray] = {}
+        self._near: dict[int, np.ndarray] = {}  # curves whose box meets c's, widened
         self._verdicts: dict[tuple, bool] = {}
 
-    def cover(self, c: int) -> set[int]:
+    def cover(self, c: int) -> np.ndarray:
         """Base curves (other than ``c``) within d_eps of every sample of base curve ``c``."""
         if c not in self._cover:
             pts = self.samples[c]
-            lo, hi = pts.min(axis=0) - self.d_eps, pts.max(axis=0) + self.d_eps
-            near = self.tree.query(shapely.box(*lo, *hi))  # a box query is quick; the
-            near = near[near != c]                         # distances below decide
-            d = shapely.distance(shapely.points(pts)[:, None], self.lines[near][None, :])
-            self._cover[c] = set(near[d.max(axis=0) <= self.d_eps].tolist())
-            self._near[c] = frozenset(near.tolist())
+            _, lines = self.tree.query(shapely.points(pts), predicate="dwithin",
+                                       distance=self.d_eps)
+            found, hits = np.unique(lines, return_counts=True)  # samples within, per curve
+            found = found[(hits == len(pts)) & (found != c)]
+            self._cover[c] = found.astype(np.int32)
         return self._cover[c]
 
-    def covered(self, removed: list[int], allowed: set[int], extra: np.ndarray | None = None
-                ) -> bool:
+    def near(self, c: int) -> np.ndarray:
+        """Base curves (other than ``c``) whose boxes meet c's widened by d_eps."""
+        if c not in self._near:
+            pts = self.samples[c]
+            lo, hi = pts.min(axis=0) - self.d_eps, pts.max(axis=0) + self.d_eps
+            near = self.tree.query(shapely.box(*lo, *hi))
+            self._near[c] = near[near != c].astype(np.int32)
+        return self._near[c]
+
+    def covered(self, removed: list[int], allowed: set[int] | PatchCurves,
+                extra: np.ndarray | None = None) -> bool:
         """Every sample of the ``removed`` base curves (and of ``extra`` points) within
         d_eps of the ``allowed`` base curves."""
         if not allowed:
             return False
-        unsettled = [c for c in removed if not self.cover(c) & allowed]
+        unsettled = [c for c in removed if not _meets(self.cover(c), allowed)]
         if not unsettled and extra is None:
             return True
         if extra is None:
             # only allowed curves near the removed ones can matter: a verdict given for the
             # same removed curves and the same nearby allowed curves stands
-            key = (tuple(unsettled), frozenset().union(*(self._near[c] for c in unsettled))
-                   & allowed)
+            near = np.unique(np.concatenate([self.near(c) for c in unsettled])).tolist()
+            key = (tuple(unsettled), frozenset(c for c in near if c in allowed))
             if key not in self._verdicts:
                 self._verdicts[key] = self._measure(unsettled, key[1], None)
             return self._verdicts[key]
         return self._measure(unsettled, allowed, extra)
 
-    def _measure(self, removed: list[int], allowed: set[int] | frozenset[int],
+    def _measure(self, removed: list[int], allowed: set[int] | frozenset[int] | PatchCurves,
                  extra: np.ndarray | None) -> bool:
         pts = [self.samples[c] for c in removed] + ([extra] if extra is not None else [])
         points = np.concatenate(pts)

@@ -9,9 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import shapely
 
-from .components import component_labels
+from .components import cluster_labels
 from .geometry import arc_lengths
 
 
@@ -36,13 +35,6 @@ class StrokeGraph:
         return np.array([arc_lengths(e.points)[-1] for e in self.edges])
 
 
-def _clusters(points: np.ndarray, radius: float) -> np.ndarray:
-    """Label points so that any two within ``radius`` share a label (single linkage)."""
-    geoms = shapely.points(points)
-    i, j = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=radius)
-    return component_labels(len(points), np.stack([i, j], axis=1))
-
-
 def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:
     """Join edge ends within ``snap`` into nodes and move the ends onto them; drop loops
     shorter than 4 * snap that this closes."""
@@ -50,7 +42,7 @@ def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:
     if not edges:
         return StrokeGraph([])
     ends = np.array([[e.points[0], e.points[-1]] for e in edges]).reshape(-1, 2)
-    labels = _clusters(ends, snap)
+    labels = cluster_labels(ends, snap)
     nodes = np.zeros((labels.max() + 1, 2))
     np.add.at(nodes, labels, ends)
     nodes /= np.bincount(labels)[:, None]

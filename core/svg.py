@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 from pathlib import Path
 from xml.etree.ElementTree import ParseError
 
@@ -24,6 +25,13 @@ from .sketch import Sketch, SketchError, Stroke
 RELATIVE_TOLERANCE = 5e-4
 #: largest SVG file read, in bytes
 MAX_SVG_BYTES = 64 * 1024 * 1024
+#: most elements after every <use> is expanded: a few <use> can stand for billions
+MAX_SVG_ELEMENTS = 100_000
+_XLINK_HREF = "{http://www.w3.org/1999/xlink}href"
+#: most digit groups in all path data and point lists together (a number has one or two):
+#: about 250,000 points, which svgelements reads in some seconds and a few hundred MB
+MAX_SVG_NUMBERS = 1_000_000
+_DIGIT_GROUP = re.compile(r"[0-9]+")
 
 
 def _cubic_steps(p: np.ndarray, tol: float) -> int:
@@ -70,13 +78,91 @@ def _subpath_polyline(subpath: se.Subpath, tol: float) -> tuple[np.ndarray, bool
     return np.concatenate(pieces), closed
 
 
-def _screen(data: bytes, name: str) -> None:
+class _NoPath:
+    """Receives a path's commands and keeps none: the lexer is run only to check them."""
+    current_point = None
+
+    def __getattr__(self, name: str):
+        return lambda *args, **kwargs: None
+
+
+def _check_path_data(d: str, where: str) -> None:
+    """Refuse path data that svgelements would read only in part.
+
+    Like a browser, svgelements stops quietly at the first error and keeps what came
+    before; a sketch would then lose strokes without a word. Its own lexer is run here and
+    must reach the end of the data.
+    """
+    lexer = se.SVGLexicalParser()
     try:
-        safe_et.fromstring(data, forbid_dtd=False, forbid_entities=True, forbid_external=True)
+        lexer.parse(_NoPath(), d)
+        ok = not d[lexer.pos:].strip(" \t\r\n,")
+    except (ValueError, TypeError):
+        ok = False
+    if not ok:
+        near = d[lexer.pos:lexer.pos + 20]
+        raise SketchError(f"{where}: malformed path data at character {lexer.pos} "
+                          f"(near {near!r})")
+
+
+def _more_numbers_than(limit: int, texts) -> bool:
+    """Whether the texts hold more than ``limit`` digit groups; counted lazily and given up
+    at the limit, so a hostile file costs no more than a legitimate one."""
+    count = 0
+    for text in texts:
+        for _ in _DIGIT_GROUP.finditer(text):
+            count += 1
+            if count > limit:
+                return True
+    return False
+
+
+def _expanded_size(root, limit: int, name: str) -> int:
+    """How many elements the document has once every ``<use>`` is replaced by what it
+    refers to (counted up to ``limit`` + 1), refusing references that loop."""
+    ids = {e.get("id"): e for e in root.iter() if e.get("id")}
+
+    def kids(e) -> list:
+        href = e.get(_XLINK_HREF) or e.get("href") or ""
+        ref = ids.get(href[1:]) if e.tag.rsplit("}", 1)[-1] == "use" and href[:1] == "#" else None
+        return list(e) + ([ref] if ref is not None else [])
+
+    size: dict[int, int] = {}
+    on_path: set[int] = set()
+    stack = [(root, False)]
+    while stack:  # post-order without recursion: documents may nest deeply
+        e, done = stack.pop()
+        if done:
+            on_path.discard(id(e))
+            size[id(e)] = min(1 + sum(size[id(k)] for k in kids(e)), limit + 1)
+        elif id(e) in on_path:
+            raise SketchError(f"{name}: a <use> refers to an element that contains it")
+        elif id(e) not in size:
+            on_path.add(id(e))
+            stack.append((e, True))
+            stack.extend((k, False) for k in kids(e) if id(k) not in size)
+    return size[id(root)]
+
+
+def _screen(data: bytes, name: str) -> None:
+    """Refuse what the SVG library should never see: unsafe or malformed XML, more
+    geometry than can be read in bounded time and memory, malformed path data."""
+    try:
+        root = safe_et.fromstring(data, forbid_dtd=False, forbid_entities=True,
+                                  forbid_external=True)
     except DefusedXmlException as exc:
         raise SketchError(f"{name}: refused unsafe XML ({type(exc).__name__})") from None
     except ParseError as exc:
         raise SketchError(f"{name}: not well-formed XML ({exc})") from None
+    if _expanded_size(root, MAX_SVG_ELEMENTS, name) > MAX_SVG_ELEMENTS:
+        raise SketchError(f"{name}: more than {MAX_SVG_ELEMENTS} elements once <use> "
+                          "references are expanded")
+    geometry = [(e, e.get("d"), e.get("points")) for e in root.iter()]
+    if _more_numbers_than(MAX_SVG_NUMBERS, (v for _, d, pts in geometry for v in (d, pts) if v)):
+        raise SketchError(f"{name}: too much path data (more than {MAX_SVG_NUMBERS} numbers)")
+    for element, d, _ in geometry:
+        if d is not None and element.tag.rsplit("}", 1)[-1] == "path":
+            _check_path_data(d, f"{name}: path {element.get('id') or ''}".rstrip())
 
 
 def _style(shape: se.Shape) -> str | None:
@@ -108,8 +194,11 @@ def parse_svg(data: bytes, name: str = "<svg>", tolerance: float | None = None) 
     if len(boxes) == 0:
         raise SketchError(f"{name}: no drawable paths or shapes")
     if tolerance is None:
-        span = np.hypot(boxes[:, 2].max() - boxes[:, 0].min(),
-                        boxes[:, 3].max() - boxes[:, 1].min())
+        with np.errstate(over="ignore", invalid="ignore"):
+            span = np.hypot(boxes[:, 2].max() - boxes[:, 0].min(),
+                            boxes[:, 3].max() - boxes[:, 1].min())
+        if not np.isfinite(span):
+            raise SketchError(f"{name}: coordinates too large to draw (extent {span})")
         tolerance = RELATIVE_TOLERANCE * span if span > 0 else 1.0
     if not tolerance > 0:
         raise SketchError(f"sampling tolerance must be positive, got {tolerance}")

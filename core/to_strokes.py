@@ -101,15 +101,7 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
     i, j = i[keep], j[keep]
     if len(i) == 0:
         return edges
-    length = shapely.length(lines)
-    short = np.where(length[i] <= length[j], i, j)
-    long_ = np.where(length[i] <= length[j], j, i)
-    probes = shapely.line_interpolate_point(lines[np.repeat(short, 5)],
-                                            np.tile(np.linspace(0, 1, 5), len(short)),
-                                            normalized=True)
-    dist = shapely.distance(probes, lines[np.repeat(long_, 5)]).reshape(-1, 5)
-    closeness = dist.mean(axis=1)
-    beside = (dist <= d_eps).mean(axis=1) >= 0.4  # most of the shorter runs along the longer
+    closeness, beside = _beside(lines, i, j, d_eps)
     order = np.lexsort((j, i, closeness))
     refused: set[tuple[int, int]] = set()  # pairs of current edges judged not to merge
     for k in order[beside[order]].tolist():
@@ -133,6 +125,28 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
         parent.append(n)
         parent[a] = parent[b] = n
     return [Edge(pts[k], perimeter[k], free[k]) for k in range(len(pts)) if parent[k] == k]
+
+
+def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
+            chunk: int = 50_000) -> tuple[np.ndarray, np.ndarray]:
+    """For each pair (i, j): the mean distance of five points along the shorter line to the
+    longer, and whether at least two of them lie within d_eps (it runs along it).
+
+    Pairs are probed in chunks: a dense drawing has millions of them, and five point
+    geometries per pair at once would take gigabytes."""
+    length = shapely.length(lines)
+    closeness, beside = np.empty(len(i)), np.empty(len(i), dtype=bool)
+    for k in range(0, len(i), chunk):
+        a, b = i[k:k + chunk], j[k:k + chunk]
+        first_shorter = length[a] <= length[b]
+        short, long_ = np.where(first_shorter, a, b), np.where(first_shorter, b, a)
+        probes = shapely.line_interpolate_point(lines[np.repeat(short, 5)],
+                                                np.tile(np.linspace(0, 1, 5), len(short)),
+                                                normalized=True)
+        dist = shapely.distance(probes, lines[np.repeat(long_, 5)]).reshape(-1, 5)
+        closeness[k:k + chunk] = dist.mean(axis=1)
+        beside[k:k + chunk] = (dist <= d_eps).mean(axis=1) >= 0.4
+    return closeness, beside
 
 
 def renode(edges: list[Edge]) -> list[Edge]:
