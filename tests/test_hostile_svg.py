@@ -10,10 +10,10 @@ import subprocess
 import sys
 
 import pytest
+from helpers import ROOT
 
 from core.sketch import SketchError
 from core.svg import MAX_SVG_ELEMENTS, MAX_SVG_NUMBERS, parse_svg
-from helpers import ROOT
 
 SVG = b'<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink">'
 
