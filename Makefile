@@ -9,13 +9,14 @@ BPY45 ?= 4.5.15
 VENV45 := .venv-bpy45
 STAMP45 := $(VENV45)/.installed
 
-.PHONY: help venv test lint demo benchmark extension clean
+.PHONY: help venv test lint demo benchmark extension fuzz clean
 
 help:
 	@echo "make demo       set up, then simplify the bundled samples (SVG, and a .blend via the operator) into out/"
 	@echo "make test       set up, then run the whole test suite (add-on on Blender 5.0 and 4.5)"
 	@echo "make benchmark  the report: reports/benchmark/index.html over ../shared/data"
 	@echo "make extension  build dist/sketchsimp-<version>-<platform>.zip for Blender"
+	@echo "make fuzz       10,000 random and adversarial sketches through core.simplify, counted by kind"
 	@echo "make lint       ruff"
 
 $(STAMP): pyproject.toml
@@ -44,6 +45,9 @@ lint: $(STAMP)
 demo: $(STAMP)
 	$(PY) scripts/demo.py
 	$(PY) scripts/demo_blender.py house
+
+fuzz: $(STAMP)
+	$(PY) scripts/fuzz.py --examples 10000
 
 extension: $(STAMP)
 	$(PY) scripts/build_extension.py

@@ -27,6 +27,9 @@ class SimplifyParams:
     fit_error     largest distance of a fitted Bezier from its polyline, as a fraction of
                   d_eps = alpha * D (the bundle width sets how exact the fit need be)
     target_patches, target_curves   optional: also stop once this few remain
+    max_curves    refuse a sketch whose strokes cross into more curves than this (None: no
+                  limit): the largest real sketches make about 17,000, and one of 100,000
+                  takes many minutes
     """
 
     epsilon: float = 0.015
@@ -40,6 +43,7 @@ class SimplifyParams:
     fit_error: float = 1 / 6
     target_patches: int | None = None
     target_curves: int | None = None
+    max_curves: int | None = 100_000
 
     def __post_init__(self) -> None:
         def check(ok: bool, message: str) -> None:
@@ -60,7 +64,7 @@ class SimplifyParams:
         for name in ("angle", "join_angle", "corner_angle"):
             check(0 <= getattr(self, name) <= 180, f"{name} must be 0 to 180 degrees")
         check(0 < self.fit_error <= 1, f"fit_error must be in (0, 1], got {self.fit_error}")
-        for name in ("target_patches", "target_curves"):
+        for name in ("target_patches", "target_curves", "max_curves"):
             value = getattr(self, name)
             check(value is None or (isinstance(value, int) and value >= 0),
                   f"{name} must be a whole number >= 0 or None, got {value!r}")

@@ -13,6 +13,7 @@ from .base_complex import BaseComplex, build_base_complex
 from .cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
 from .complex_state import ComplexState, Merge
 from .geometry import polygons_from
+from .noding import more_crossings_than
 from .params import SimplifyParams
 from .sketch import Sketch, SketchError, Stroke
 from .to_strokes import to_strokes
@@ -110,7 +111,16 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     cleaned, report = clean_sketch(sketch)
     unit, norm = normalised_strokes(cleaned)
     t1 = time.perf_counter()
+    if params.max_curves is not None:
+        crossings = more_crossings_than(unit, params.max_curves // 2)
+        if crossings is not None:
+            raise SketchError(f"the strokes cross each other over {crossings} times, too "
+                              f"tangled for max_curves = {params.max_curves}: simplify it "
+                              "in parts")
     cx = build_base_complex(unit)
+    if params.max_curves is not None and cx.num_curves > params.max_curves:
+        raise SketchError(f"the strokes cross into {cx.num_curves} curves, more than the "
+                          f"{params.max_curves} allowed (max_curves): simplify it in parts")
     t2 = time.perf_counter()
     history, state, stats = agglomerate(cx, params)
     t3 = time.perf_counter()

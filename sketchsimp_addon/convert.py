@@ -35,8 +35,13 @@ class Plane:
 
 
 def drawing_plane(positions: np.ndarray) -> Plane:
-    """The plane through the points' centre spanned by their two main directions."""
+    """The plane through the points' centre spanned by their two main directions.
+
+    Non-finite points (a NaN from a broken import) are left out; the core drops them."""
     pts = np.asarray(positions, dtype=np.float64)
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    if len(pts) == 0:
+        raise SketchError("no point has finite coordinates")
     centre = pts.mean(axis=0)
     _, sv, vt = np.linalg.svd(pts - centre, full_matrices=False)
     if len(sv) < 2 or sv[1] <= 1e-12 * max(sv[0], 1e-300):

@@ -203,8 +203,8 @@ def make_curve_object(sample: str, kind: str = "POLY"):
     cu = bpy.data.curves.new("Rough", type="CURVE")
     cu.dimensions = "3D"
     for pts in sample_points(sample):
-        if kind == "POLY":
-            sp = cu.splines.new("POLY")
+        if kind in ("POLY", "NURBS"):
+            sp = cu.splines.new(kind)
             sp.points.add(len(pts) - 1)
             sp.points.foreach_set("co", np.hstack([pts, np.ones((len(pts), 1),
                                                                 np.float32)]).ravel())
@@ -220,7 +220,7 @@ def make_curve_object(sample: str, kind: str = "POLY"):
     return ob
 
 
-@pytest.mark.parametrize("kind", ["POLY", "BEZIER"])
+@pytest.mark.parametrize("kind", ["POLY", "BEZIER", "NURBS"])
 def test_curve_object_in_and_bezier_curve_out(kind):
     ob = make_curve_object("cup", kind)
     n_in = len(ob.data.splines)
@@ -232,6 +232,42 @@ def test_curve_object_in_and_bezier_curve_out(kind):
     ink = shapely.union_all(lines_from([s[:, [0, 2]] for s in sample_points("cup")]))
     co = np.concatenate([[p.co[:] for p in s.bezier_points] for s in splines])
     assert shapely.distance(shapely.points(co[:, [0, 2]]), ink).max() < 6 * SCALE
+
+
+def curve_snapshot(ob) -> list[bytes]:
+    """Every spline's point buffers, to compare byte for byte."""
+    out = []
+    for sp in ob.data.splines:
+        for seq, keys, size in ((sp.points, ("co",), 4),
+                                (sp.bezier_points, ("co", "handle_left", "handle_right"), 3)):
+            for key in keys:
+                buf = np.empty(len(seq) * size, np.float32)
+                seq.foreach_get(key, buf)
+                out.append(buf.tobytes())
+    return out
+
+
+def test_odd_curve_splines_are_skipped_and_the_source_kept():
+    """NaN points, one-point splines and a NURBS spline among good ones: the good ink is
+    simplified, the report says what was read approximately, the source is unchanged."""
+    ob = make_curve_object("cup", "POLY")
+    odd = ob.data.splines.new("POLY")  # one point only
+    odd.points.foreach_set("co", [0.0, 0.0, 0.0, 1.0])
+    bad = ob.data.splines[0].points
+    co = np.empty(len(bad) * 4, np.float32)
+    bad.foreach_get("co", co)
+    co[4:6] = np.nan
+    bad.foreach_set("co", co)
+    nurbs = ob.data.splines.new("NURBS")
+    nurbs.points.add(3)
+    nurbs.points.foreach_set("co", np.array([[0, 0, 0, 1], [1, 0, 1, 1], [2, 0, 0, 1],
+                                             [3, 0, 1, 1]], np.float32).ravel())
+    before = curve_snapshot(ob)
+    assert bpy.ops.sketchsimp.simplify(hide_source=False) == {"FINISHED"}
+    assert curve_snapshot(ob) == before
+    out = bpy.data.objects["Rough simplified"].data.splines
+    co = np.concatenate([[p.co[:] for p in s.bezier_points] for s in out])
+    assert len(out) > 0 and np.isfinite(co).all()
 
 
 def test_grease_pencil_to_a_bezier_curve_object():
