@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -81,15 +82,43 @@ def synthetic(n_strokes: int, seed: int = 0) -> list[np.ndarray]:
     return out
 
 
+# run in a fresh process, whose peak is its own: VmHWM (ru_maxrss would keep a forking
+# parent's peak)
+MEMORY_PROBE = """
+import resource, sys, time
+sys.path[:0] = [{root!r}, {scripts!r}]
+from bench_simplify import synthetic
+from core import Sketch, Stroke, simplify
+sketch = Sketch([Stroke(p) for p in synthetic({n})])
+t0 = time.perf_counter()
+simplify(sketch)
+seconds = time.perf_counter() - t0
+try:
+    status = open("/proc/self/status").read()
+    peak = int(status.split("VmHWM:")[1].split()[0]) / 1024
+except OSError:
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+print(seconds, peak)
+"""
+
+
+def measure_synthetic(n: int) -> tuple[float, float]:
+    """Seconds of ``simplify`` on the synthetic sketch of ``n`` strokes, and the peak memory
+    (MB) of the whole process that ran it."""
+    probe = MEMORY_PROBE.format(root=str(ROOT), scripts=str(ROOT / "scripts"), n=n)
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          check=True)
+    seconds, peak_mb = (float(x) for x in done.stdout.split()[-2:])
+    return seconds, peak_mb
+
+
 def scaling(sizes: list[int]) -> None:
-    from core import Sketch, Stroke
     times = []
     for n in sizes:
-        sketch = Sketch([Stroke(p) for p in synthetic(n)])
-        t0 = time.perf_counter()
-        simplify(sketch)
-        times.append(time.perf_counter() - t0)
-        print(f"  synthetic {n:6d} strokes: {times[-1]:7.2f} s")
+        seconds, peak_mb = measure_synthetic(n)
+        times.append(seconds)
+        print(f"  synthetic {n:6d} strokes: {seconds:7.2f} s, peak memory {peak_mb:7.1f} MB "
+              "(aim: under 500 MB at 10,000)", flush=True)
     slope = np.polyfit(np.log(sizes), np.log(times), 1)[0]
     print(f"  growth exponent {slope:.2f} (aim: at most 1.3)")
 

@@ -21,7 +21,6 @@ import html
 import json
 import multiprocessing
 import re
-import subprocess
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -38,7 +37,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from bench_complex import rough_files, sketch_name  # noqa: E402
-from bench_simplify import intended_curves  # noqa: E402
+from bench_simplify import intended_curves, measure_synthetic  # noqa: E402
 
 from core import SimplifyParams, read_sketch, simplify  # noqa: E402
 from core.geometry import lines_from, split_coordinates  # noqa: E402
@@ -114,32 +113,10 @@ def median(rows: list[dict], method: str, key: str) -> float | None:
     return float(np.median(vals)) if vals else None
 
 
-# peak memory of a fresh process: VmHWM (ru_maxrss would keep the forking parent's peak)
-MEMORY_PROBE = """
-import resource, sys, time
-sys.path[:0] = [{root!r}, {scripts!r}]
-from bench_simplify import synthetic
-from core import Sketch, Stroke, simplify
-sketch = Sketch([Stroke(p) for p in synthetic({n})])
-t0 = time.perf_counter()
-simplify(sketch)
-seconds = time.perf_counter() - t0
-try:
-    status = open("/proc/self/status").read()
-    peak = int(status.split("VmHWM:")[1].split()[0]) / 1024
-except OSError:
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-print(seconds, peak)
-"""
-
-
 def scaling(sizes: list[int], out_dir: Path) -> dict:
     rows = []
     for n in sizes:
-        probe = MEMORY_PROBE.format(root=str(ROOT), scripts=str(ROOT / "scripts"), n=n)
-        done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
-                              check=True)
-        seconds, peak_mb = (float(x) for x in done.stdout.split()[-2:])
+        seconds, peak_mb = measure_synthetic(n)
         rows.append({"strokes": n, "seconds": seconds, "peak_mb": peak_mb})
         print(f"  synthetic {n:6d} strokes: {seconds:7.2f} s, peak {peak_mb:7.1f} MB", flush=True)
     x = np.log([r["strokes"] for r in rows])
