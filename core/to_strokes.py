@@ -132,18 +132,18 @@ def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
     """For each pair (i, j): the mean distance of five points along the shorter line to the
     longer, and whether at least two of them lie within d_eps (it runs along it).
 
-    Pairs are probed in chunks: a dense drawing has millions of them, and five point
-    geometries per pair at once would take gigabytes."""
+    The five points of each line are made once; pairs are measured in chunks, as a dense
+    drawing has millions of them."""
     length = shapely.length(lines)
+    probes = shapely.line_interpolate_point(np.repeat(lines, 5),
+                                            np.tile(np.linspace(0, 1, 5), len(lines)),
+                                            normalized=True).reshape(-1, 5)
     closeness, beside = np.empty(len(i)), np.empty(len(i), dtype=bool)
     for k in range(0, len(i), chunk):
         a, b = i[k:k + chunk], j[k:k + chunk]
         first_shorter = length[a] <= length[b]
         short, long_ = np.where(first_shorter, a, b), np.where(first_shorter, b, a)
-        probes = shapely.line_interpolate_point(lines[np.repeat(short, 5)],
-                                                np.tile(np.linspace(0, 1, 5), len(short)),
-                                                normalized=True)
-        dist = shapely.distance(probes, lines[np.repeat(long_, 5)]).reshape(-1, 5)
+        dist = shapely.distance(probes[short], lines[long_][:, None])
         closeness[k:k + chunk] = dist.mean(axis=1)
         beside[k:k + chunk] = (dist <= d_eps).mean(axis=1) >= 0.4
     return closeness, beside
