@@ -38,11 +38,18 @@ def _meets(curves: np.ndarray, allowed: set[int] | PatchCurves) -> bool:
 
 
 class DistanceGuard:
-    def __init__(self, curves: list[np.ndarray], lines: np.ndarray, d_eps: float) -> None:
+    def __init__(self, curves: list[np.ndarray], lines: np.ndarray, d_eps: float,
+                 end_curves: list[np.ndarray] | None = None) -> None:
+        """``end_curves[c]``: the base curves (other than c) sharing a node with curve c."""
         self.d_eps = d_eps
         self.lines = lines
         self.tree = shapely.STRtree(lines)
         self.samples = [resample_polyline(c, d_eps / 2) for c in curves]
+        # a curve no longer than d_eps lies within d_eps of its end nodes, so within d_eps of
+        # any curve through one of them: settled without geometry (dense sketches are
+        # mostly such crumbs between crossings)
+        self.short = shapely.length(lines) <= d_eps if len(lines) else np.zeros(0, bool)
+        self.end_curves = end_curves
         # kept as small int arrays: in a dense sketch a curve has a hundred covers, and
         # Python sets of them would take hundreds of MB
         self._cover: dict[int, np.ndarray] = {}
@@ -75,7 +82,10 @@ class DistanceGuard:
         d_eps of the ``allowed`` base curves."""
         if not allowed:
             return False
-        unsettled = [c for c in removed if not _meets(self.cover(c), allowed)]
+        unsettled = [c for c in removed if not (
+            (self.short[c] and self.end_curves is not None
+             and _meets(self.end_curves[c], allowed))
+            or _meets(self.cover(c), allowed))]
         if not unsettled and extra is None:
             return True
         if extra is None:
