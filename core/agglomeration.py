@@ -52,7 +52,8 @@ from .patch_rings import (
 )
 
 INF = math.inf
-#: stale patch-patch pairs are keyed by this fraction of their parents' cheapest cost
+#: stale pairs with a patch (patch-patch, curve-patch) are keyed by this fraction of the
+#: estimate their parents' costs give
 PP_ESTIMATE = 0.7
 #: shapes described together when the queue is first filled (a batch of 256 rings takes
 #: about 1 MB of samples)
@@ -75,7 +76,8 @@ class Agglomerator:
         self.state = ComplexState(cx)
         self.geometry = RingGeometry(cx)
         self.lines = lines_from(cx.curves) if cx.curves else np.empty(0, dtype=object)
-        self.guard = DistanceGuard(cx.curves, self.lines, self.d_eps, _end_curves(cx))
+        self.guard = DistanceGuard(cx.curves, self.lines, self.d_eps, cx.curve_nodes,
+                                   cx.node_curves)
         self.outlines: dict[int, Outline] = {}
         self.rings: list[list[list[int]]] = [
             [half_edges(p.boundary)] + [half_edges(h) for h in p.holes] for p in cx.patches]
@@ -348,12 +350,6 @@ class Agglomerator:
             self._apply(kind, a, b, cost)
             self._compact()
         return self.history
-
-
-def _end_curves(cx: BaseComplex) -> list[np.ndarray]:
-    """For each curve, the other curves sharing one of its end nodes."""
-    return [np.array(sorted((set(cx.node_curves[a]) | set(cx.node_curves[b])) - {c}),
-                     dtype=np.int32) for c, (a, b) in enumerate(cx.curve_nodes.tolist())]
 
 
 def agglomerate(cx: BaseComplex, params: SimplifyParams) -> tuple[list[Merge], ComplexState,

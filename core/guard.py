@@ -39,8 +39,8 @@ def _meets(curves: np.ndarray, allowed: set[int] | PatchCurves) -> bool:
 
 class DistanceGuard:
     def __init__(self, curves: list[np.ndarray], lines: np.ndarray, d_eps: float,
-                 end_curves: list[np.ndarray] | None = None) -> None:
-        """``end_curves[c]``: the base curves (other than c) sharing a node with curve c."""
+                 curve_nodes: np.ndarray, node_curves: list[list[int]]) -> None:
+        """``curve_nodes`` (E, 2) and ``node_curves`` as in :class:`BaseComplex`."""
         self.d_eps = d_eps
         self.lines = lines
         self.tree = shapely.STRtree(lines)
@@ -49,7 +49,7 @@ class DistanceGuard:
         # any curve through one of them: settled without geometry (dense sketches are
         # mostly such crumbs between crossings)
         self.short = shapely.length(lines) <= d_eps if len(lines) else np.zeros(0, bool)
-        self.end_curves = end_curves
+        self.curve_nodes, self.node_curves = curve_nodes, node_curves
         # kept as small int arrays: in a dense sketch a curve has a hundred covers, and
         # Python sets of them would take hundreds of MB
         self._cover: dict[int, np.ndarray] = {}
@@ -67,6 +67,11 @@ class DistanceGuard:
             self._cover[c] = found.astype(np.int32)
         return self._cover[c]
 
+    def _through_ends(self, c: int) -> np.ndarray:
+        """Base curves (other than ``c``) through one of the end nodes of curve ``c``."""
+        a, b = self.curve_nodes[c]
+        return np.array([x for x in {*self.node_curves[a], *self.node_curves[b]} if x != c])
+
     def near(self, c: int) -> np.ndarray:
         """Base curves (other than ``c``) whose boxes meet c's widened by d_eps."""
         if c not in self._near:
@@ -83,8 +88,7 @@ class DistanceGuard:
         if not allowed:
             return False
         unsettled = [c for c in removed if not (
-            (self.short[c] and self.end_curves is not None
-             and _meets(self.end_curves[c], allowed))
+            (self.short[c] and _meets(self._through_ends(c), allowed))
             or _meets(self.cover(c), allowed))]
         if not unsettled and extra is None:
             return True

@@ -88,7 +88,9 @@ def test_guard_agrees_with_brute_force(seed):
     curves = [np.cumsum(rng.normal(0, 0.01, (12, 2)), axis=0) + rng.uniform(0, 0.1, 2)
               for _ in range(25)]
     d_eps = 0.02
-    guard = DistanceGuard(curves, lines_from(curves), d_eps)
+    unconnected = np.arange(50).reshape(25, 2)  # each curve its own two end nodes
+    guard = DistanceGuard(curves, lines_from(curves), d_eps, unconnected,
+                          [[c] for c in range(25) for _ in range(2)])
     for _ in range(60):
         removed = sorted(rng.choice(25, size=rng.integers(1, 3), replace=False).tolist())
         allowed = set(rng.choice(25, size=rng.integers(1, 6), replace=False).tolist())
@@ -97,3 +99,29 @@ def test_guard_agrees_with_brute_force(seed):
             continue
         expected = brute_covered(guard.samples, curves, removed, allowed, d_eps)
         assert guard.covered(removed, allowed) == expected
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_guard_agrees_with_brute_force_on_crumbs_between_crossings(seed):
+    """Curves of a real complex: many shorter than d_eps, settled through their end nodes."""
+    rng = np.random.default_rng(seed)
+    strokes = [np.cumsum(rng.normal(0, 0.05, (10, 2)), axis=0) + rng.uniform(0, 0.3, 2)
+               for _ in range(12)]
+    cx = build_base_complex(strokes)
+    d_eps = 0.02
+    guard = DistanceGuard(cx.curves, lines_from(cx.curves), d_eps, cx.curve_nodes,
+                          cx.node_curves)
+    assert guard.short.sum() > 5
+    n, verdicts = cx.num_curves, []
+    for _ in range(80):
+        removed = sorted(rng.choice(n, size=rng.integers(1, 3), replace=False).tolist())
+        allowed = set(rng.choice(n, size=rng.integers(1, 8), replace=False).tolist())
+        if rng.random() < 0.5:  # the curves through one end of a removed one
+            allowed |= set(cx.node_curves[cx.curve_nodes[removed[0], 0]])
+        allowed -= set(removed)
+        if not allowed:
+            continue
+        expected = brute_covered(guard.samples, cx.curves, removed, allowed, d_eps)
+        assert guard.covered(removed, allowed) == expected
+        verdicts.append(expected)
+    assert any(verdicts) and not all(verdicts)
