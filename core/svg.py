@@ -117,6 +117,11 @@ def _more_numbers_than(limit: int, texts) -> bool:
     return False
 
 
+def _local_name(element) -> str:
+    """An element's tag without its namespace: 'path' for '{http://...svg}path'."""
+    return element.tag.rsplit("}", 1)[-1]
+
+
 def _expanded_size(root, limit: int, name: str) -> int:
     """How many elements the document has once every ``<use>`` is replaced by what it
     refers to (counted up to ``limit`` + 1), refusing references that loop."""
@@ -124,7 +129,7 @@ def _expanded_size(root, limit: int, name: str) -> int:
 
     def kids(e) -> list:
         href = e.get(_XLINK_HREF) or e.get("href") or ""
-        ref = ids.get(href[1:]) if e.tag.rsplit("}", 1)[-1] == "use" and href[:1] == "#" else None
+        ref = ids.get(href[1:]) if _local_name(e) == "use" and href[:1] == "#" else None
         return list(e) + ([ref] if ref is not None else [])
 
     size: dict[int, int] = {}
@@ -161,7 +166,7 @@ def _screen(data: bytes, name: str) -> None:
     if _more_numbers_than(MAX_SVG_NUMBERS, (v for _, d, pts in geometry for v in (d, pts) if v)):
         raise SketchError(f"{name}: too much path data (more than {MAX_SVG_NUMBERS} numbers)")
     for element, d, _ in geometry:
-        if d is not None and element.tag.rsplit("}", 1)[-1] == "path":
+        if d is not None and _local_name(element) == "path":
             _check_path_data(d, f"{name}: path {element.get('id') or ''}".rstrip())
 
 

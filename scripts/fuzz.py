@@ -21,8 +21,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from fuzz_sketches import KINDS, check  # noqa: E402
-from hypothesis import HealthCheck, given, seed, settings  # noqa: E402
+from fuzz_sketches import KINDS, check, fuzz_settings  # noqa: E402
+from hypothesis import given, seed  # noqa: E402
 
 
 def fuzz_kind(kind: str, examples: int, rng_seed: int) -> tuple[Counter, str | None]:
@@ -30,8 +30,7 @@ def fuzz_kind(kind: str, examples: int, rng_seed: int) -> tuple[Counter, str | N
     outcomes: Counter = Counter()
 
     @seed(rng_seed)
-    @settings(max_examples=examples, deadline=None, database=None,
-              suppress_health_check=list(HealthCheck))
+    @fuzz_settings(examples)
     @given(strategy)
     def run(strokes):
         outcomes[check(strokes)] += 1

@@ -11,6 +11,7 @@ input's reach. ``tests/test_fuzz.py`` runs a few examples of each kind, ``script
 from __future__ import annotations
 
 import numpy as np
+from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
 from core import Sketch, SketchError, Stroke, simplify
@@ -113,6 +114,13 @@ KINDS = {
     "one stroke of 100,000 points": (long_stroke, 0.01),
     "random": (random_sketch, 1.0),
 }
+
+
+def fuzz_settings(examples: int) -> settings:
+    """How the fuzzers run: no deadline (the long stroke takes seconds), no example
+    database (each run draws afresh), no health check against slow or filtered data."""
+    return settings(max_examples=examples, deadline=None, database=None,
+                    suppress_health_check=list(HealthCheck))
 
 
 def check_complex(cx: BaseComplex) -> None:
