@@ -155,8 +155,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             continue
         points = data.positions[np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
                                                 for k in chosen])]
-        points = points[np.isfinite(points).all(axis=1)]  # NaN points: the core drops them
-        if len(points) < 2:
+        if np.isfinite(points).all(axis=1).sum() < 2:  # drawing_plane leaves NaN points out
             report.skipped.append(f"a drawing without finite points on '{layer.name}' frame "
                                   f"{frames[0].frame_number}")
             continue
