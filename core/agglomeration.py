@@ -39,7 +39,7 @@ from .base_complex import BaseComplex
 from .complex_state import ComplexState, Merge
 from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
 from .fourier import curve_descriptors, fd_distance, fourier_descriptors
-from .geometry import lines_from, resample_polyline
+from .geometry import lines_from
 from .guard import DistanceGuard, PatchCurves
 from .params import SimplifyParams
 from .patch_rings import (
@@ -85,6 +85,9 @@ class Agglomerator:
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
         self.known: dict[tuple, float] = {}
+        # curves that curve-curve pairs cheaper than epsilon would merge into, kept from
+        # their costing for when they are applied
+        self.cc_merged: dict[tuple[int, int], np.ndarray] = {}
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
         self.heap: list[tuple] = []
@@ -104,7 +107,11 @@ class Agglomerator:
 
     def _sampled(self, c: int) -> SampledCurve:
         if c not in self.sampled:
-            self.sampled[c] = SampledCurve.of(self.state.curves[c], sample_spacing(self.d_eps))
+            if c < len(self.guard.samples):  # a base curve: the guard sampled it alike
+                self.sampled[c] = SampledCurve.of_samples(self.guard.samples[c])
+            else:
+                self.sampled[c] = SampledCurve.of(self.state.curves[c],
+                                                  sample_spacing(self.d_eps))
         return self.sampled[c]
 
     def _curve_fd(self, c: int) -> np.ndarray:
@@ -150,8 +157,7 @@ class Agglomerator:
         if c < len(self.guard.samples):
             covered = self.guard.covered([c], st.patch_curves[p])
         else:  # a curve made by a curve-curve merge: measured, not tabled
-            covered = self.guard.covered([], st.patch_curves[p],
-                                         resample_polyline(st.curves[c], self.d_eps / 2))
+            covered = self.guard.covered([], st.patch_curves[p], self._sampled(c).points)
         if not covered:
             return None
         ends = {int(n) for e in st.patch_curves[p] for n in self.geometry.curve_nodes[e]}
@@ -190,6 +196,8 @@ class Agglomerator:
                     np.stack([ref(pairs[i][1]) for i in valid]), new))
             for i, d in zip(valid, dist.tolist()):
                 costs[i] = d
+                if kind == "CC" and d < self.params.epsilon:
+                    self.cc_merged[pairs[i]] = shapes[i]
         for (a, b), cost in zip(pairs, costs):
             self.known[(kind, a, b)] = cost
         return costs
@@ -299,7 +307,7 @@ class Agglomerator:
             st.remove_curve(a)
             self.history.append(Merge("CP", cost, a, b, b))
         else:
-            merged = self._cc_curve(a, b)
+            merged = self.cc_merged.pop((a, b))
             n = st.merge_curves(a, b, merged)
             self.history.append(Merge("CC", cost, a, b, n, merged))
             partners = (self.cc_partners.pop(a, set()) | self.cc_partners.pop(b, set())) - {a, b}
@@ -326,6 +334,7 @@ class Agglomerator:
         if len(self.heap) > 2 * self._compacted_size:
             self.heap = [e for e in self.heap if self._alive(e[2], e[3], e[4])]
             heapq.heapify(self.heap)
+            self.cc_merged = {k: v for k, v in self.cc_merged.items() if self._alive("CC", *k)}
             self._compacted_size = max(len(self.heap), COST_BATCH)
 
     def _target_reached(self) -> bool:

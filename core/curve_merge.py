@@ -16,7 +16,9 @@ Curves are handled as :class:`SampledCurve` (evenly resampled once, then reused)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from functools import cached_property, lru_cache
 
 import numpy as np
 import shapely
@@ -44,25 +46,32 @@ class SampledCurve:
 
     @classmethod
     def of(cls, points: np.ndarray, spacing: float) -> SampledCurve:
-        pts = resample_polyline(points, spacing)
-        return cls(pts, arc_lengths(pts), unit_tangents(pts), shapely.LineString(pts))
+        return cls.of_samples(resample_polyline(points, spacing))
+
+    @classmethod
+    def of_samples(cls, pts: np.ndarray) -> SampledCurve:
+        """From a polyline already resampled evenly."""
+        return cls(pts, arc_lengths(pts), unit_tangents(pts), shapely.linestrings(pts))
 
     @property
     def length(self) -> float:
         return float(self.s[-1])
 
+    @cached_property
+    def point_geoms(self) -> np.ndarray:
+        """The points as shapely Points, made once: a curve is measured against many."""
+        return shapely.points(self.points)
 
-def _project(base: SampledCurve, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Arc-length parameter of ``pts`` along ``base``, extended linearly past its ends,
-    and their distance to it."""
-    geoms = shapely.points(pts)
+
+def _project(base: SampledCurve, curve: SampledCurve) -> tuple[np.ndarray, np.ndarray]:
+    """Arc-length parameter of the points of ``curve`` along ``base``, extended linearly
+    past its ends, and their distance to it."""
+    pts, geoms = curve.points, curve.point_geoms
     s = shapely.line_locate_point(base.line, geoms)
     dist = shapely.distance(geoms, base.line)
     b = base.points
-    t0 = base.tangents[0]
-    t1 = base.tangents[-1]
-    before = (pts - b[0]) @ t0
-    after = (pts - b[-1]) @ t1
+    before = (pts - b[0]) @ base.tangents[0]
+    after = (pts - b[-1]) @ base.tangents[-1]
     s = np.where((s <= 1e-12) & (before < 0), before, s)
     s = np.where((s >= base.length - 1e-12) & (after > 0), base.length + after, s)
     return s, dist
@@ -72,7 +81,7 @@ def _continues(a: SampledCurve, b: SampledCurve, d_eps: float, cos_max: float) -
     """An end of ``a`` near an end of ``b``, ``b`` heading on the way ``a`` was going."""
     for ea, da in ((a.points[0], -a.tangents[0]), (a.points[-1], a.tangents[-1])):
         for eb, db in ((b.points[0], b.tangents[0]), (b.points[-1], -b.tangents[-1])):
-            if np.hypot(*(ea - eb)) <= d_eps and da @ db >= cos_max:
+            if math.hypot(ea[0] - eb[0], ea[1] - eb[1]) <= d_eps and da @ db >= cos_max:
                 return True
     return False
 
@@ -81,15 +90,23 @@ def _straight_and_askew(a: SampledCurve, b: SampledCurve, cos_max: float) -> boo
     """Both nearly straight and at an angle: they can neither run side by side nor
     continue each other (the common case of lines crossing at a node, decided cheaply)."""
     ca, cb = a.points[-1] - a.points[0], b.points[-1] - b.points[0]
-    la, lb = np.hypot(*ca), np.hypot(*cb)
+    la, lb = math.hypot(ca[0], ca[1]), math.hypot(cb[0], cb[1])
     if la < 0.95 * a.length or lb < 0.95 * b.length or la == 0 or lb == 0:
         return False
     return abs(ca @ cb) / (la * lb) < cos_max
 
 
 def _smoothstep(x: np.ndarray) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
+    x = np.minimum(np.maximum(x, 0.0), 1.0)
     return x * x * (3 - 2 * x)
+
+
+def _interp2(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The polyline ``points`` with arc lengths ``s`` at arc lengths ``t``."""
+    out = np.empty((len(t), 2))
+    out[:, 0] = np.interp(t, s, points[:, 0])
+    out[:, 1] = np.interp(t, s, points[:, 1])
+    return out
 
 
 def _blend(long_: SampledCurve, wl: float, short: SampledCurve, ws: float, s_s: np.ndarray,
@@ -99,23 +116,38 @@ def _blend(long_: SampledCurve, wl: float, short: SampledCurve, ws: float, s_s: 
         pts_s, s_s = pts_s[::-1], s_s[::-1]
     s_s = np.maximum.accumulate(s_s)
     s_l = long_.s
-    lo, hi = min(0.0, s_s[0]), max(s_l[-1], s_s[-1])
-    t = np.linspace(lo, hi, max(2, int(np.ceil((hi - lo) / spacing)) + 1))
-    in_l = (t >= 0) & (t <= s_l[-1])
-    in_s = (t >= s_s[0]) & (t <= s_s[-1])
-    w_l = wl * in_l * (1e-3 + _smoothstep(np.minimum(t, s_l[-1] - t) / d_eps))
-    w_s = ws * in_s * (1e-3 + _smoothstep(np.minimum(t - s_s[0], s_s[-1] - t) / d_eps))
-    pl = np.stack([np.interp(t, s_l, long_.points[:, 0]),
-                   np.interp(t, s_l, long_.points[:, 1])], axis=1)
-    if s_s[-1] > s_s[0]:
-        ps = np.stack([np.interp(t, s_s, pts_s[:, 0]), np.interp(t, s_s, pts_s[:, 1])], axis=1)
-    else:
-        ps = np.repeat(pts_s[:1], len(t), axis=0)
+    end_l, start_s, end_s = float(s_l[-1]), float(s_s[0]), float(s_s[-1])
+    lo, hi = min(0.0, start_s), max(end_l, end_s)
+    n = max(2, math.ceil((hi - lo) / spacing) + 1)
+    t = np.arange(n) * ((hi - lo) / (n - 1)) + lo  # np.linspace(lo, hi, n), made directly
+    t[-1] = hi
+    in_l = (t >= 0) & (t <= end_l)
+    in_s = (t >= start_s) & (t <= end_s)
+    w_l = wl * in_l * (1e-3 + _smoothstep(np.minimum(t, end_l - t) / d_eps))
+    w_s = ws * in_s * (1e-3 + _smoothstep(np.minimum(t - start_s, end_s - t) / d_eps))
+    pl = _interp2(t, s_l, long_.points)
+    ps = _interp2(t, s_s, pts_s) if end_s > start_s else np.repeat(pts_s[:1], n, axis=0)
     total = w_l + w_s
     keep = total > 0
     merged = (w_l[:, None] * pl + w_s[:, None] * ps)[keep] / total[keep][:, None]
-    step = np.hypot(*np.diff(merged, axis=0).T)
-    return merged[np.concatenate([[True], step > 1e-12])]
+    d = merged[1:] - merged[:-1]
+    moves = np.empty(len(merged), dtype=bool)
+    moves[0] = True
+    np.greater(np.hypot(d[:, 0], d[:, 1]), 1e-12, out=moves[1:])
+    return merged[moves]
+
+
+def _median(x: np.ndarray) -> float:
+    """np.median of a 1-d array, without its generic machinery."""
+    x = np.sort(x)
+    m = len(x) // 2
+    return float(x[m]) if len(x) % 2 else float((x[m - 1] + x[m]) / 2)
+
+
+@lru_cache(maxsize=4096)
+def _probe_index(n: int) -> np.ndarray:
+    """Nine indices spread evenly over n points, ends included."""
+    return np.linspace(0, n - 1, 9).astype(int)
 
 
 def pair_and_merge(a: SampledCurve, wa: float, b: SampledCurve, wb: float, d_eps: float,
@@ -126,31 +158,31 @@ def pair_and_merge(a: SampledCurve, wa: float, b: SampledCurve, wb: float, d_eps
     The merged polyline keeps within d_eps of both curves, or the pair is refused.
     """
     long_, wl, short, ws = (a, wa, b, wb) if a.length >= b.length else (b, wb, a, wa)
-    cos_max = np.cos(np.radians(max_angle_deg))
+    cos_max = math.cos(math.radians(max_angle_deg))
     how = None
     if _straight_and_askew(a, b, cos_max):
         return None, None
     # a few points first: most candidate pairs only touch at a node and are refused here
-    probe = short.points[np.linspace(0, len(short.points) - 1, 9).astype(int)]
-    if (shapely.distance(shapely.points(probe), long_.line) <= d_eps).mean() >= MIN_OVERLAP - 0.2:
-        s, dist = _project(long_, short.points)
+    probe = short.point_geoms[_probe_index(len(short.points))]
+    if np.count_nonzero(shapely.distance(probe, long_.line) <= d_eps) / 9 >= MIN_OVERLAP - 0.2:
+        s, dist = _project(long_, short)
         near = dist <= d_eps
-        if near.mean() >= MIN_OVERLAP:
-            idx = np.clip(np.searchsorted(long_.s, s[near]), 0, len(long_.s) - 1)
+        if np.count_nonzero(near) / len(near) >= MIN_OVERLAP:
+            idx = np.minimum(np.searchsorted(long_.s, s[near]), len(long_.s) - 1)
             cos = np.abs((short.tangents[near] * long_.tangents[idx]).sum(axis=1))
-            if np.median(cos) >= cos_max:
+            if _median(cos) >= cos_max:
                 how = "side"
     if how is None and not sides_only and _continues(a, b, d_eps, cos_max):
         how = "end"
-        s, _ = _project(long_, short.points)
+        s, _ = _project(long_, short)
     if how is None:
         return None, None
     spacing = float(long_.s[1] - long_.s[0]) if len(long_.s) > 1 else sample_spacing(d_eps)
     merged = _blend(long_, wl, short, ws, s, d_eps, spacing)
     if len(merged) < 2:
         return None, None
-    line = shapely.LineString(merged)
+    line = shapely.linestrings(merged)
     for parent in (a, b):
-        if shapely.distance(shapely.points(parent.points), line).max() > d_eps:
+        if shapely.distance(parent.point_geoms, line).max() > d_eps:
             return None, None
     return how, merged

@@ -41,16 +41,21 @@ def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
     The polylines are laid end to end on one arc-length axis, each starting one unit past
     the end of the one before, so that a single ``np.interp`` serves them all.
     """
-    points = np.concatenate(lines)
-    sizes = np.array([len(line) for line in lines])
+    points = np.concatenate(lines) if len(lines) > 1 else lines[0]
+    sizes = np.fromiter(map(len, lines), dtype=np.intp, count=len(lines))
     ends = np.cumsum(sizes) - 1
-    seg = np.hypot(*np.diff(points, axis=0).T)
+    d = points[1:] - points[:-1]
+    seg = np.hypot(d[:, 0], d[:, 1])
     seg[ends[:-1]] = 1.0  # the step from one polyline to the next
-    s = np.concatenate([[0.0], np.cumsum(seg)])
+    s = np.empty(len(points))
+    s[0] = 0.0
+    np.cumsum(seg, out=s[1:])
     start = s[ends - sizes + 1]
     length = s[ends] - start
     t = (start[:, None] + where(np.arange(n) / n, length[:, None])).ravel()
-    out = np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
+    out = np.empty((len(t), 2))
+    out[:, 0] = np.interp(t, s, points[:, 0])
+    out[:, 1] = np.interp(t, s, points[:, 1])
     return out.reshape(len(lines), n, 2)
 
 
@@ -81,8 +86,8 @@ def curve_descriptors(curves: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.
 
 def _descriptors_of_samples(samples: np.ndarray, n: int) -> np.ndarray:
     """Descriptors of (m, n, 2) evenly spaced samples; a shape with no extent gets zeros."""
-    centre = samples.sum(axis=1, keepdims=True) / n
-    radius = np.sqrt(((samples - centre) ** 2).sum(axis=2))
+    centre = samples.sum(axis=1) / n
+    radius = np.hypot(samples[:, :, 0] - centre[:, 0:1], samples[:, :, 1] - centre[:, 1:2])
     coeffs = np.abs(np.fft.rfft(radius, axis=1))
     a0 = coeffs[:, :1]
     return np.divide(coeffs[:, 1:], a0, out=np.zeros((len(samples), n // 2)), where=a0 > 0)

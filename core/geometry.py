@@ -34,22 +34,35 @@ def split_coordinates(geoms: np.ndarray) -> list[np.ndarray]:
 
 def arc_lengths(points: np.ndarray) -> np.ndarray:
     """Cumulative arc length at each point, starting at 0."""
-    return np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
+    d = points[1:] - points[:-1]
+    s = np.empty(len(points))
+    s[0] = 0.0
+    np.cumsum(np.hypot(d[:, 0], d[:, 1]), out=s[1:])
+    return s
 
 
 def resample_polyline(points: np.ndarray, spacing: float) -> np.ndarray:
     """Points evenly spaced by arc length (at most ``spacing`` apart), ends kept; a closed
     polyline keeps at least four, so that it stays a loop however short."""
     s = arc_lengths(points)
-    closed = len(points) > 2 and bool((points[0] == points[-1]).all())
+    closed = len(points) > 2 and points[0, 0] == points[-1, 0] and points[0, 1] == points[-1, 1]
     n = max(4 if closed else 2, int(np.ceil(s[-1] / spacing)) + 1)
-    t = np.linspace(0.0, s[-1], n)
-    return np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
+    t = np.arange(n) * (s[-1] / (n - 1))
+    t[-1] = s[-1]
+    out = np.empty((n, 2))
+    out[:, 0] = np.interp(t, s, points[:, 0])
+    out[:, 1] = np.interp(t, s, points[:, 1])
+    return out
 
 
 def unit_tangents(points: np.ndarray) -> np.ndarray:
     """Unit tangent at each point (central differences, one-sided at the ends)."""
-    d = np.gradient(points, axis=0) if len(points) > 2 else np.repeat(
-        points[1:] - points[:1], len(points), axis=0)
+    d = np.empty_like(points)
+    if len(points) > 2:
+        d[1:-1] = (points[2:] - points[:-2]) / 2
+        d[0] = points[1] - points[0]
+        d[-1] = points[-1] - points[-2]
+    else:
+        d[:] = points[1] - points[0]
     norm = np.hypot(d[:, 0], d[:, 1])
     return d / np.where(norm > 0, norm, 1.0)[:, None]

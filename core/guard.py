@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from .curve_merge import sample_spacing
 from .geometry import resample_polyline
 
 
@@ -44,7 +45,8 @@ class DistanceGuard:
         self.d_eps = d_eps
         self.lines = lines
         self.tree = shapely.STRtree(lines)
-        self.samples = [resample_polyline(c, d_eps / 2) for c in curves]
+        # the spacing curve-curve pairing samples at, so that it can reuse these
+        self.samples = [resample_polyline(c, sample_spacing(d_eps)) for c in curves]
         # a curve no longer than d_eps lies within d_eps of its end nodes, so within d_eps of
         # any curve through one of them: settled without geometry (dense sketches are
         # mostly such crumbs between crossings)

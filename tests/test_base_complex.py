@@ -182,3 +182,21 @@ def test_random_sketches_form_a_planar_subdivision(raw):
     faces = shapely.get_parts(shapely.polygonize(lines_from(cx.curves)))
     assert len(faces) == cx.num_patches
     assert sum(p.area for p in cx.patches) == pytest.approx(shapely.area(faces).sum(), abs=1e-9)
+
+
+def test_crossing_count_is_exact_past_the_limit_and_none_within_it():
+    # a grid of 12 horizontal and 12 vertical lines: 144 proper crossings, while a fan of
+    # 200 parallel diagonals has thousands of overlapping boxes and no crossing at all
+    from core.noding import more_crossings_than
+
+    t = np.linspace(0, 11, 12)
+    grid = [np.array([[-1, y], [12, y]]) for y in t] + [np.array([[x, -1], [x, 12]]) for x in t]
+    fan = [np.array([[0, k * 0.01], [10, 10 + k * 0.01]]) for k in range(200)]
+    assert more_crossings_than(grid, 143) == 144
+    assert more_crossings_than(grid, 144) is None
+    assert more_crossings_than(fan, 10) is None
+    both = fan + grid
+    lines = shapely.linestrings(both)
+    brute = int(np.triu(shapely.crosses(lines[:, None], lines[None, :]), 1).sum())
+    assert brute > 1000 and more_crossings_than(both, 100) >= 100
+    assert more_crossings_than(both, brute - 1) == brute
