@@ -318,7 +318,7 @@ class Agglomerator:
                 self._offer("CC", c, n, [("CC", min(x, c), max(x, c)) for x in (a, b)])
             for p in sorted({p for node in st.curve_nodes[n] for p in st.patches_at_node(node)}):
                 self._pair_cp(n, p)
-                self._push(self._cost("CP", n, p), "CP", n, p, True)
+                self._offer("CP", n, p, [("CP", a, p), ("CP", b, p)])
         self.stats.merges[kind] += 1
 
     def _forget(self, p: int) -> None:
