@@ -8,6 +8,8 @@ Curves are (3k + 1, 2) arrays of control points: p0, c1, c2, p1, c1, c2, p2, ...
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .geometry import arc_lengths
@@ -15,11 +17,20 @@ from .geometry import arc_lengths
 _M = np.array([[1, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]], dtype=float)
 
 
+def _basis(t: np.ndarray) -> np.ndarray:
+    """The cubic Bernstein basis at parameters t: (len(t), 4)."""
+    r = 1 - t
+    basis = np.empty((len(t), 4))
+    basis[:, 0] = r * r * r
+    basis[:, 1] = 3 * r * r * t
+    basis[:, 2] = 3 * r * t * t
+    basis[:, 3] = t * t * t
+    return basis
+
+
 def evaluate(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Points of one cubic (4, 2) at parameters t."""
-    t = np.asarray(t, dtype=float)
-    basis = np.stack([(1 - t) ** 3, 3 * (1 - t) ** 2 * t, 3 * (1 - t) * t**2, t**3], axis=1)
-    return basis @ ctrl
+    return _basis(np.asarray(t, dtype=float)) @ ctrl
 
 
 def sample(curve: np.ndarray, per_segment: int = 16) -> np.ndarray:
@@ -60,20 +71,20 @@ def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) ->
     return corners
 
 
-def _fit_cubic(pts: np.ndarray, u: np.ndarray, t0: np.ndarray, t1: np.ndarray) -> np.ndarray:
-    """Least-squares cubic with fixed ends and fixed end tangent directions."""
+def _fit_cubic(pts: np.ndarray, basis: np.ndarray, t0: np.ndarray, t1: np.ndarray,
+               arc: float) -> np.ndarray:
+    """Least-squares cubic with fixed ends and fixed end tangent directions, the points
+    taken at parameters whose Bernstein ``basis`` is given; ``arc`` is their path length."""
     p0, p3 = pts[0], pts[-1]
-    b0, b1, b2, b3 = (1 - u) ** 3, 3 * (1 - u) ** 2 * u, 3 * (1 - u) * u**2, u**3
-    a1, a2 = np.outer(b1, t0), np.outer(b2, t1)
-    c00, c01, c11 = (a1 * a1).sum(), (a1 * a2).sum(), (a2 * a2).sum()
-    rest = pts - np.outer(b0 + b1, p0) - np.outer(b2 + b3, p3)
-    x0, x1 = (a1 * rest).sum(), (a2 * rest).sum()
+    b1, b2 = basis[:, 1], basis[:, 2]
+    rest = pts - np.outer(basis[:, 0] + b1, p0) - np.outer(b2 + basis[:, 3], p3)
+    c00, c01, c11 = (b1 @ b1) * (t0 @ t0), (b1 @ b2) * (t0 @ t1), (b2 @ b2) * (t1 @ t1)
+    x0, x1 = b1 @ (rest @ t0), b2 @ (rest @ t1)
     det = c00 * c11 - c01 * c01
-    chord = np.hypot(*(p3 - p0))
+    chord = math.hypot(p3[0] - p0[0], p3[1] - p0[1])
     alpha1 = alpha2 = 0.0
     if abs(det) > 1e-12 * max(c00 * c11, 1e-300):
         alpha1, alpha2 = (x0 * c11 - x1 * c01) / det, (c00 * x1 - c01 * x0) / det
-    arc = float(np.hypot(*np.diff(pts, axis=0).T).sum())
     if min(alpha1, alpha2) < 1e-6 * chord or max(alpha1, alpha2) > arc:
         # Wu/Barsky: a degenerate solve, or handles longer than the whole piece (which
         # would loop far away between the samples): fall back to a third of the chord
@@ -81,18 +92,18 @@ def _fit_cubic(pts: np.ndarray, u: np.ndarray, t0: np.ndarray, t1: np.ndarray) -
     return np.array([p0, p0 + alpha1 * t0, p3 + alpha2 * t1, p3])
 
 
-def _reparameterise(ctrl: np.ndarray, pts: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """One Newton-Raphson step towards the nearest curve parameter of each point."""
-    q = evaluate(ctrl, u)
-    d1 = 3 * np.diff(ctrl, axis=0)
-    d2 = 2 * np.diff(d1, axis=0)
-    q1 = np.stack([(1 - u) ** 2, 2 * (1 - u) * u, u**2], axis=1) @ d1
-    q2 = np.stack([1 - u, u], axis=1) @ d2
-    diff = q - pts
+def _reparameterise(ctrl: np.ndarray, diff: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """One Newton-Raphson step towards the nearest curve parameter of each point, given
+    ``diff``, the curve at ``u`` minus the points."""
+    d1 = 3 * (ctrl[1:] - ctrl[:-1])
+    d2 = 2 * (d1[1:] - d1[:-1])
+    r = 1 - u
+    q1 = np.outer(r * r, d1[0]) + np.outer(2 * r * u, d1[1]) + np.outer(u * u, d1[2])
+    q2 = np.outer(r, d2[0]) + np.outer(u, d2[1])
     num = (diff * q1).sum(axis=1)
     den = (q1 * q1).sum(axis=1) + (diff * q2).sum(axis=1)
     step = np.divide(num, den, out=np.zeros_like(num), where=np.abs(den) > 1e-12)
-    return np.clip(u - step, 0, 1)
+    return np.minimum(np.maximum(u - step, 0.0), 1.0)
 
 
 def _fit_piece(pts: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float,
@@ -102,14 +113,16 @@ def _fit_piece(pts: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float,
         return [np.array([pts[0], pts[0] + d * t0, pts[-1] + d * t1, pts[-1]])]
     s = arc_lengths(pts)
     u = s / s[-1] if s[-1] > 0 else np.linspace(0, 1, len(pts))
-    ctrl = _fit_cubic(pts, u, t0, t1)
-    for _ in range(4):
-        err = np.hypot(*(evaluate(ctrl, u) - pts).T)
-        if err.max() <= tol:
-            return [ctrl]
-        u = _reparameterise(ctrl, pts, u)
-        ctrl = _fit_cubic(pts, u, t0, t1)
-    err = np.hypot(*(evaluate(ctrl, u) - pts).T)
+    basis = _basis(u)
+    ctrl = _fit_cubic(pts, basis, t0, t1, float(s[-1]))
+    for attempt in range(5):  # the fit, then up to four Newton steps on its parameters
+        diff = basis @ ctrl - pts
+        err = np.hypot(diff[:, 0], diff[:, 1])
+        if err.max() <= tol or attempt == 4:
+            break
+        u = _reparameterise(ctrl, diff, u)
+        basis = _basis(u)
+        ctrl = _fit_cubic(pts, basis, t0, t1, float(s[-1]))
     if err.max() <= tol or depth > 24:
         return [ctrl]
     split = int(np.clip(np.argmax(err), 1, len(pts) - 2))

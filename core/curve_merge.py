@@ -68,7 +68,9 @@ def _project(base: SampledCurve, curve: SampledCurve) -> tuple[np.ndarray, np.nd
     past its ends, and their distance to it."""
     pts, geoms = curve.points, curve.point_geoms
     s = shapely.line_locate_point(base.line, geoms)
-    dist = shapely.distance(geoms, base.line)
+    # the closest point is where the line is at s: cheaper than GEOS measuring again
+    off = pts - _interp2(s, base.s, base.points)
+    dist = np.hypot(off[:, 0], off[:, 1])
     b = base.points
     before = (pts - b[0]) @ base.tangents[0]
     after = (pts - b[-1]) @ base.tangents[-1]

@@ -13,7 +13,11 @@ A curve is described as the slender ring p0 .. p_n-1, p_n-2 .. p1 (walked there 
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
+
+from .geometry import arc_lengths
 
 DEFAULT_SAMPLES = 256
 
@@ -41,22 +45,36 @@ def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
     The polylines are laid end to end on one arc-length axis, each starting one unit past
     the end of the one before, so that a single ``np.interp`` serves them all.
     """
-    points = np.concatenate(lines) if len(lines) > 1 else lines[0]
-    sizes = np.fromiter(map(len, lines), dtype=np.intp, count=len(lines))
-    ends = np.cumsum(sizes) - 1
-    d = points[1:] - points[:-1]
-    seg = np.hypot(d[:, 0], d[:, 1])
-    seg[ends[:-1]] = 1.0  # the step from one polyline to the next
-    s = np.empty(len(points))
-    s[0] = 0.0
-    np.cumsum(seg, out=s[1:])
-    start = s[ends - sizes + 1]
-    length = s[ends] - start
-    t = (start[:, None] + where(np.arange(n) / n, length[:, None])).ravel()
+    fractions = _fractions(n)
+    if len(lines) == 1:  # the common case in the merge loop: one new shape costed
+        points = lines[0]
+        s = arc_lengths(points)
+        t = where(fractions, s[-1])
+    else:
+        points = np.concatenate(lines)
+        sizes = np.fromiter(map(len, lines), dtype=np.intp, count=len(lines))
+        ends = np.cumsum(sizes) - 1
+        d = points[1:] - points[:-1]
+        seg = np.hypot(d[:, 0], d[:, 1])
+        seg[ends[:-1]] = 1.0  # the step from one polyline to the next
+        s = np.empty(len(points))
+        s[0] = 0.0
+        np.cumsum(seg, out=s[1:])
+        start = s[ends - sizes + 1]
+        length = s[ends] - start
+        t = (start[:, None] + where(fractions, length[:, None])).ravel()
     out = np.empty((len(t), 2))
     out[:, 0] = np.interp(t, s, points[:, 0])
     out[:, 1] = np.interp(t, s, points[:, 1])
     return out.reshape(len(lines), n, 2)
+
+
+@lru_cache(maxsize=8)
+def _fractions(n: int) -> np.ndarray:
+    """k / n for k < n (shared, read only)."""
+    fractions = np.arange(n) / n
+    fractions.flags.writeable = False
+    return fractions
 
 
 def fourier_descriptors(rings: list[np.ndarray], n: int = DEFAULT_SAMPLES) -> np.ndarray:
