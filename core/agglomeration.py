@@ -85,9 +85,9 @@ class Agglomerator:
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
         self.known: dict[tuple, float] = {}
-        # curves that curve-curve pairs cheaper than epsilon would merge into, kept from
-        # their costing for when they are applied
-        self.cc_merged: dict[tuple[int, int], np.ndarray] = {}
+        # what pairs cheaper than epsilon would merge into (the new shape's descriptor, and
+        # for two curves the new curve), kept from their costing for when they are applied
+        self.merged: dict[tuple[str, int, int], tuple[np.ndarray | None, np.ndarray]] = {}
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
         self.heap: list[tuple] = []
@@ -194,10 +194,10 @@ class Agglomerator:
             if kind != "CP":
                 dist = np.minimum(dist, fd_distance(
                     np.stack([ref(pairs[i][1]) for i in valid]), new))
-            for i, d in zip(valid, dist.tolist()):
+            for k, (i, d) in enumerate(zip(valid, dist.tolist())):
                 costs[i] = d
-                if kind == "CC" and d < self.params.epsilon:
-                    self.cc_merged[pairs[i]] = shapes[i]
+                if d < self.params.epsilon and kind != "CP":
+                    self.merged[(kind, *pairs[i])] = (shapes[i] if kind == "CC" else None, new[k])
         for (a, b), cost in zip(pairs, costs):
             self.known[(kind, a, b)] = cost
         return costs
@@ -292,6 +292,7 @@ class Agglomerator:
                                 self.geometry)
             r = st.merge_patches(a, b)
             self.rings.append(rings)
+            self.patch_fd[r] = self.merged.pop(("PP", a, b))[1]
             self.history.append(Merge("PP", cost, a, b, r))
             size = self._size(r)
             growth = [self._size(x) / size if size > 0 else 1.0 for x in (a, b)]
@@ -307,8 +308,9 @@ class Agglomerator:
             st.remove_curve(a)
             self.history.append(Merge("CP", cost, a, b, b))
         else:
-            merged = self.cc_merged.pop((a, b))
+            merged, fd = self.merged.pop(("CC", a, b))
             n = st.merge_curves(a, b, merged)
+            self.curve_fd[n] = fd
             self.history.append(Merge("CC", cost, a, b, n, merged))
             partners = (self.cc_partners.pop(a, set()) | self.cc_partners.pop(b, set())) - {a, b}
             self.cc_partners[n] = set()
@@ -334,7 +336,7 @@ class Agglomerator:
         if len(self.heap) > 2 * self._compacted_size:
             self.heap = [e for e in self.heap if self._alive(e[2], e[3], e[4])]
             heapq.heapify(self.heap)
-            self.cc_merged = {k: v for k, v in self.cc_merged.items() if self._alive("CC", *k)}
+            self.merged = {k: v for k, v in self.merged.items() if self._alive(*k)}
             self._compacted_size = max(len(self.heap), COST_BATCH)
 
     def _target_reached(self) -> bool:
