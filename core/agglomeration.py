@@ -85,9 +85,11 @@ class Agglomerator:
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
         self.known: dict[tuple, float] = {}
-        # what pairs cheaper than epsilon would merge into (the new shape's descriptor, and
-        # for two curves the new curve), kept from their costing for when they are applied
-        self.merged: dict[tuple[str, int, int], tuple[np.ndarray | None, np.ndarray]] = {}
+        # what curve-curve pairs cheaper than epsilon would merge into (the new curve and
+        # its descriptor), kept from their costing for when they are applied. Not for
+        # patches: the union's outline is described from another starting point there,
+        # which changes the descriptor slightly and, through the merge order, the result
+        self.merged: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
         self.heap: list[tuple] = []
@@ -196,8 +198,8 @@ class Agglomerator:
                     np.stack([ref(pairs[i][1]) for i in valid]), new))
             for k, (i, d) in enumerate(zip(valid, dist.tolist())):
                 costs[i] = d
-                if d < self.params.epsilon and kind != "CP":
-                    self.merged[(kind, *pairs[i])] = (shapes[i] if kind == "CC" else None, new[k])
+                if d < self.params.epsilon and kind == "CC":
+                    self.merged[pairs[i]] = (shapes[i], new[k])
         for (a, b), cost in zip(pairs, costs):
             self.known[(kind, a, b)] = cost
         return costs
@@ -292,7 +294,6 @@ class Agglomerator:
                                 self.geometry)
             r = st.merge_patches(a, b)
             self.rings.append(rings)
-            self.patch_fd[r] = self.merged.pop(("PP", a, b))[1]
             self.history.append(Merge("PP", cost, a, b, r))
             size = self._size(r)
             growth = [self._size(x) / size if size > 0 else 1.0 for x in (a, b)]
@@ -308,7 +309,7 @@ class Agglomerator:
             st.remove_curve(a)
             self.history.append(Merge("CP", cost, a, b, b))
         else:
-            merged, fd = self.merged.pop(("CC", a, b))
+            merged, fd = self.merged.pop((a, b))
             n = st.merge_curves(a, b, merged)
             self.curve_fd[n] = fd
             self.history.append(Merge("CC", cost, a, b, n, merged))
@@ -336,7 +337,7 @@ class Agglomerator:
         if len(self.heap) > 2 * self._compacted_size:
             self.heap = [e for e in self.heap if self._alive(e[2], e[3], e[4])]
             heapq.heapify(self.heap)
-            self.merged = {k: v for k, v in self.merged.items() if self._alive(*k)}
+            self.merged = {k: v for k, v in self.merged.items() if self._alive("CC", *k)}
             self._compacted_size = max(len(self.heap), COST_BATCH)
 
     def _target_reached(self) -> bool:

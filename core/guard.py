@@ -30,12 +30,13 @@ class PatchCurves:
         return len(self.p) + len(self.q) - 2 * len(self.shared) > 0
 
 
-def _meets(curves: np.ndarray, allowed: set[int] | PatchCurves) -> bool:
+def _meets(curves: np.ndarray | frozenset[int], allowed: set[int] | PatchCurves) -> bool:
     """Whether any of ``curves`` is allowed, with set operations rather than a loop."""
+    ids = curves if isinstance(curves, frozenset) else curves.tolist()
     if isinstance(allowed, PatchCurves):
-        rest = set(curves.tolist()) - allowed.shared
+        rest = set(ids) - allowed.shared
         return not (rest.isdisjoint(allowed.p) and rest.isdisjoint(allowed.q))
-    return not allowed.isdisjoint(curves.tolist())
+    return not allowed.isdisjoint(ids)
 
 
 class DistanceGuard:
@@ -56,6 +57,7 @@ class DistanceGuard:
         # Python sets of them would take hundreds of MB
         self._cover: dict[int, np.ndarray] = {}
         self._near: dict[int, np.ndarray] = {}  # curves whose box meets c's, widened
+        self._ends: dict[int, frozenset[int]] = {}  # curves through c's end nodes
         self._verdicts: dict[tuple, bool] = {}
 
     def cover(self, c: int) -> np.ndarray:
@@ -69,10 +71,12 @@ class DistanceGuard:
             self._cover[c] = found.astype(np.int32)
         return self._cover[c]
 
-    def _through_ends(self, c: int) -> np.ndarray:
+    def _through_ends(self, c: int) -> frozenset[int]:
         """Base curves (other than ``c``) through one of the end nodes of curve ``c``."""
-        a, b = self.curve_nodes[c]
-        return np.array([x for x in {*self.node_curves[a], *self.node_curves[b]} if x != c])
+        if c not in self._ends:
+            a, b = self.curve_nodes[c]
+            self._ends[c] = frozenset({*self.node_curves[a], *self.node_curves[b]} - {c})
+        return self._ends[c]
 
     def near(self, c: int) -> np.ndarray:
         """Base curves (other than ``c``) whose boxes meet c's widened by d_eps."""

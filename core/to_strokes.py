@@ -20,6 +20,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -77,13 +78,7 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
     weights = [1.0] * len(pts)
     free = [e.free for e in edges]
     perimeter = [e.perimeter for e in edges]  # a merged edge bounds no one patch: inf
-    parent = list(range(len(pts)))
-
-    def find(x: int) -> int:
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
+    root = np.arange(2 * len(pts))  # the current edge each edge has been merged into
 
     def curve(k: int) -> SampledCurve:
         if k not in sampled:
@@ -103,12 +98,10 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
         return edges
     closeness, beside = _beside(lines, i, j, d_eps)
     order = np.lexsort((j, i, closeness))
-    refused: set[tuple[int, int]] = set()  # pairs of current edges judged not to merge
-    for k in order[beside[order]].tolist():
-        a, b = sorted((find(int(i[k])), find(int(j[k]))))
-        if a == b or (a, b) in refused:
-            continue
-        refused.add((a, b))  # a merge replaces both, so the pair never comes up again
+    judged: set[int] = set()  # pairs of current edges judged (and not merged), as keys
+    candidates = order[beside[order]]
+    for a, b in _unjudged(i[candidates], j[candidates], root, judged):
+        judged.add(a * len(root) + b)  # a merge replaces both: the pair never comes up again
         how, merged = pair_and_merge(curve(a), weights[a], curve(b), weights[b], d_eps,
                                      params.angle, sides_only=True)
         if how is None:
@@ -122,9 +115,30 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
         weights.append(weights[a] + weights[b])
         free.append(False)
         perimeter.append(np.inf)
-        parent.append(n)
-        parent[a] = parent[b] = n
-    return [Edge(pts[k], perimeter[k], free[k]) for k in range(len(pts)) if parent[k] == k]
+        root[(root == a) | (root == b)] = n
+    return [Edge(pts[k], perimeter[k], free[k]) for k in range(len(pts)) if root[k] == k]
+
+
+def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray, judged: set[int],
+              block: int = 4096) -> Iterator[tuple[int, int]]:
+    """The candidate pairs, in order, as pairs of the current edges they have been merged
+    into (smaller id first), leaving out those merged into one or judged before.
+
+    ``root`` and ``judged`` are read as the caller updates them between pairs. A dense
+    sketch has hundreds of thousands of candidates, most of them settled by earlier
+    merges: they are dropped a block at a time with array operations."""
+    size = len(root)
+    for start in range(0, len(first), block):
+        x, y = first[start:start + block], second[start:start + block]
+        a, b = root[x], root[y]
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        keep = lo != hi
+        if judged:
+            keep &= ~np.isin(lo * size + hi, np.fromiter(judged, np.int64, len(judged)))
+        for u, v in zip(x[keep].tolist(), y[keep].tolist()):
+            a, b = sorted((int(root[u]), int(root[v])))
+            if a != b and a * size + b not in judged:
+                yield a, b
 
 
 def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
