@@ -30,13 +30,33 @@ class PatchCurves:
         return len(self.p) + len(self.q) - 2 * len(self.shared) > 0
 
 
-def _meets(curves: np.ndarray | frozenset[int], allowed: set[int] | PatchCurves) -> bool:
-    """Whether any of ``curves`` is allowed, with set operations rather than a loop."""
-    ids = curves if isinstance(curves, frozenset) else curves.tolist()
+class CurveSamples:
+    """Each curve resampled evenly, on first use: a dense sketch has tens of thousands of
+    curves, and most are never measured."""
+
+    def __init__(self, curves: list[np.ndarray], spacing: float) -> None:
+        self.curves, self.spacing = curves, spacing
+        self._made: list[np.ndarray | None] = [None] * len(curves)
+
+    def __len__(self) -> int:
+        return len(self.curves)
+
+    def __getitem__(self, c: int) -> np.ndarray:
+        made = self._made[c]
+        if made is None:
+            made = self._made[c] = resample_polyline(self.curves[c], self.spacing)
+        return made
+
+
+def _allowed_one(curves: np.ndarray | frozenset[int],
+                 allowed: set[int] | PatchCurves) -> int | None:
+    """One of ``curves`` that is allowed, or None; with set operations, not a loop."""
+    ids = curves if isinstance(curves, frozenset) else set(curves.tolist())
     if isinstance(allowed, PatchCurves):
-        rest = set(ids) - allowed.shared
-        return not (rest.isdisjoint(allowed.p) and rest.isdisjoint(allowed.q))
-    return not allowed.isdisjoint(ids)
+        hits = ((ids & allowed.p) | (ids & allowed.q)) - allowed.shared
+    else:
+        hits = allowed.intersection(ids)
+    return min(hits) if hits else None
 
 
 class DistanceGuard:
@@ -46,8 +66,8 @@ class DistanceGuard:
         self.d_eps = d_eps
         self.lines = lines
         self.tree = shapely.STRtree(lines)
-        # the spacing curve-curve pairing samples at, so that it can reuse these
-        self.samples = [resample_polyline(c, sample_spacing(d_eps)) for c in curves]
+        # at the spacing curve-curve pairing samples at, so that it can reuse these
+        self.samples = CurveSamples(curves, sample_spacing(d_eps))
         # a curve no longer than d_eps lies within d_eps of its end nodes, so within d_eps of
         # any curve through one of them: settled without geometry (dense sketches are
         # mostly such crumbs between crossings)
@@ -58,6 +78,7 @@ class DistanceGuard:
         self._cover: dict[int, np.ndarray] = {}
         self._near: dict[int, np.ndarray] = {}  # curves whose box meets c's, widened
         self._ends: dict[int, frozenset[int]] = {}  # curves through c's end nodes
+        self._witness: dict[int, int] = {}  # an allowed curve that last covered c
         self._verdicts: dict[tuple, bool] = {}
 
     def cover(self, c: int) -> np.ndarray:
@@ -93,9 +114,7 @@ class DistanceGuard:
         d_eps of the ``allowed`` base curves."""
         if not allowed:
             return False
-        unsettled = [c for c in removed if not (
-            (self.short[c] and _meets(self._through_ends(c), allowed))
-            or _meets(self.cover(c), allowed))]
+        unsettled = [c for c in removed if not self._settled(c, allowed)]
         if not unsettled and extra is None:
             return True
         if extra is None:
@@ -107,6 +126,23 @@ class DistanceGuard:
                 self._verdicts[key] = self._measure(unsettled, key[1], None)
             return self._verdicts[key]
         return self._measure(unsettled, allowed, extra)
+
+    def _settled(self, c: int, allowed: set[int] | PatchCurves) -> bool:
+        """Whether an allowed curve covers base curve ``c`` by itself: one through an end
+        node of a crumb, or one of its covers. The last one found is tried first: growing
+        patches ask about the same curves again and again, and it mostly still stands."""
+        witness = self._witness.get(c)
+        if witness is not None and witness in allowed:
+            return True
+        witness = None
+        if self.short[c]:
+            witness = _allowed_one(self._through_ends(c), allowed)
+        if witness is None:
+            witness = _allowed_one(self.cover(c), allowed)
+        if witness is None:
+            return False
+        self._witness[c] = witness
+        return True
 
     def _measure(self, removed: list[int], allowed: set[int] | frozenset[int] | PatchCurves,
                  extra: np.ndarray | None) -> bool:
