@@ -78,19 +78,36 @@ class DistanceGuard:
         self._cover: dict[int, np.ndarray] = {}
         self._near: dict[int, np.ndarray] = {}  # curves whose box meets c's, widened
         self._ends: dict[int, frozenset[int]] = {}  # curves through c's end nodes
+        self._near_points: dict[tuple[float, float], np.ndarray] = {}
         self._witness: dict[int, int] = {}  # an allowed curve that last covered c
         self._verdicts: dict[tuple, bool] = {}
 
     def cover(self, c: int) -> np.ndarray:
-        """Base curves (other than ``c``) within d_eps of every sample of base curve ``c``."""
+        """Base curves (other than ``c``) within d_eps of every sample of base curve ``c``.
+
+        The curves near each end are asked of the index once per end point, as most curves
+        of a dense sketch are crumbs between crossings sharing their ends with others;
+        the few near both ends are then measured against the samples between."""
         if c not in self._cover:
             pts = self.samples[c]
-            _, lines = self.tree.query(shapely.points(pts), predicate="dwithin",
-                                       distance=self.d_eps)
-            found, hits = np.unique(lines, return_counts=True)  # samples within, per curve
-            found = found[(hits == len(pts)) & (found != c)]
-            self._cover[c] = found.astype(np.int32)
+            found = np.intersect1d(self._near_point(pts[0]), self._near_point(pts[-1]),
+                                   assume_unique=True)
+            found = found[found != c]
+            if len(pts) > 2 and len(found):
+                within = shapely.dwithin(shapely.points(pts[1:-1])[:, None],
+                                         self.lines[found][None, :], self.d_eps)
+                found = found[within.all(axis=0)]
+            self._cover[c] = found
         return self._cover[c]
+
+    def _near_point(self, point: np.ndarray) -> np.ndarray:
+        """Base curves within d_eps of a point (sorted), asked once per point."""
+        key = (float(point[0]), float(point[1]))
+        if key not in self._near_points:
+            near = self.tree.query(shapely.points(point), predicate="dwithin",
+                                   distance=self.d_eps)
+            self._near_points[key] = np.sort(near).astype(np.int32)
+        return self._near_points[key]
 
     def _through_ends(self, c: int) -> frozenset[int]:
         """Base curves (other than ``c``) through one of the end nodes of curve ``c``."""

@@ -19,7 +19,11 @@ def half_edges(ring: Ring) -> list[int]:
 
 
 class RingGeometry:
-    """Points and areas of half-edge rings over the base complex's curves."""
+    """Points and areas of half-edge rings over the base complex's curves.
+
+    Each half-edge's points (its curve without the last point, walked its way) are laid
+    out once in one array, so that a ring's points are gathered with one index array
+    rather than a slice and a copy per half-edge: grown patches have long rings."""
 
     def __init__(self, cx: BaseComplex) -> None:
         self.curves = cx.curves
@@ -27,6 +31,10 @@ class RingGeometry:
         cross = [0.5 * float((c[:-1, 0] * c[1:, 1] - c[1:, 0] * c[:-1, 1]).sum())
                  for c in cx.curves]
         self.half_area = np.repeat(np.array(cross), 2) * np.tile([1.0, -1.0], len(cross))
+        parts = [part for c in cx.curves for part in (c[:-1], c[:0:-1])]
+        self.half_len = np.fromiter(map(len, parts), dtype=np.intp, count=len(parts))
+        self.half_start = np.cumsum(self.half_len) - self.half_len
+        self.flat = np.concatenate(parts) if parts else np.empty((0, 2))
 
     def origin(self, h: int) -> int:
         return int(self.curve_nodes[h >> 1, h & 1])
@@ -36,18 +44,24 @@ class RingGeometry:
 
     def points(self, ring: list[int]) -> np.ndarray:
         """The ring's points in order, the first point not repeated at the end."""
-        parts = [self.curves[h >> 1][:-1] if h % 2 == 0 else self.curves[h >> 1][:0:-1]
-                 for h in ring]
-        return np.concatenate(parts)
+        return self.flat[self.index_of(np.asarray(ring))[0]]
+
+    def index_of(self, ring: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Indices into ``flat`` of the ring's points, and where each half-edge starts."""
+        lens = self.half_len[ring]
+        ends = np.cumsum(lens)
+        first = ends - lens
+        total = int(ends[-1]) if len(ends) else 0
+        return np.repeat(self.half_start[ring] - first, lens) + np.arange(total), first
 
     def with_spike(self, ring: list[int], node: int, spike: np.ndarray) -> np.ndarray:
         """Ring points with ``spike`` (a walk out from ``node`` and back) inserted there."""
-        parts = [self.curves[h >> 1][:-1] if h % 2 == 0 else self.curves[h >> 1][:0:-1]
-                 for h in ring]
+        points = self.points(ring)
         at = next((i for i, h in enumerate(ring) if self.origin(h) == node), None)
         if at is None:
-            return np.concatenate(parts)
-        return np.concatenate(parts[:at] + [spike[:-1]] + parts[at:])
+            return points
+        k = int(self.half_len[ring[:at]].sum())
+        return np.concatenate([points[:k], spike[:-1], points[k:]])
 
 
 def spike_walk(points: np.ndarray, anchor: np.ndarray) -> np.ndarray:
@@ -112,11 +126,10 @@ class Outline:
 
     def __init__(self, ring: list[int], geometry: RingGeometry) -> None:
         self.half = ring
-        self.pos = {h: i for i, h in enumerate(ring)}
-        curves = geometry.curves
-        parts = [curves[h >> 1][:-1] if h % 2 == 0 else curves[h >> 1][:0:-1] for h in ring]
-        self.start = np.concatenate([[0], np.cumsum([len(p) for p in parts])])
-        self.points = np.concatenate(parts)
+        self.pos = dict(zip(ring, range(len(ring))))
+        index, first = geometry.index_of(np.asarray(ring))
+        self.start = np.append(first, len(index))
+        self.points = geometry.flat[index]
 
     def arc(self, first: int, last: int) -> np.ndarray:
         """Points of the half-edges ``first`` to ``last`` (cyclic, inclusive)."""
