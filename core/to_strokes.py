@@ -91,7 +91,11 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
         return fds[k]
 
     lines = lines_from(pts)
-    i, j = shapely.STRtree(lines).query(lines, predicate="dwithin", distance=d_eps)
+    # pairs whose boxes come within d_eps: the probes below keep only pairs running side
+    # by side, which are within d_eps, so GEOS need not measure every pair's distance
+    lo = shapely.bounds(lines)
+    i, j = shapely.STRtree(lines).query(shapely.box(*(lo[:, :2] - d_eps).T,
+                                                    *(lo[:, 2:] + d_eps).T))
     keep = (i < j) & ~(np.array(free)[i] & np.array(free)[j])
     i, j = i[keep], j[keep]
     if len(i) == 0:
