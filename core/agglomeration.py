@@ -85,11 +85,10 @@ class Agglomerator:
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
         self.known: dict[tuple, float] = {}
-        # what curve-curve pairs cheaper than epsilon would merge into (the new curve and
-        # its descriptor), kept from their costing for when they are applied. Not for
-        # patches: the union's outline is described from another starting point there,
-        # which changes the descriptor slightly and, through the merge order, the result
-        self.merged: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+        # curves that curve-curve pairs cheaper than epsilon would merge into, kept from
+        # their costing for when they are applied (not their descriptors: a dense sketch
+        # has tens of thousands of such pairs, and a descriptor is the bigger of the two)
+        self.merged: dict[tuple[int, int], np.ndarray] = {}
         self.cp_partners: dict[int, set[int]] = {}
         self.cc_partners: dict[int, set[int]] = {}
         self.heap: list[tuple] = []
@@ -196,10 +195,10 @@ class Agglomerator:
             if kind != "CP":
                 dist = np.minimum(dist, fd_distance(
                     np.stack([ref(pairs[i][1]) for i in valid]), new))
-            for k, (i, d) in enumerate(zip(valid, dist.tolist())):
+            for i, d in zip(valid, dist.tolist()):
                 costs[i] = d
-                if d < self.params.epsilon and kind == "CC":
-                    self.merged[pairs[i]] = (shapes[i], new[k])
+                if kind == "CC" and d < self.params.epsilon:
+                    self.merged[pairs[i]] = shapes[i]
         for (a, b), cost in zip(pairs, costs):
             self.known[(kind, a, b)] = cost
         return costs
@@ -307,11 +306,13 @@ class Agglomerator:
                 self._offer("CP", c, r, [("CP", c, a), ("CP", c, b)])
         elif kind == "CP":
             st.remove_curve(a)
+            self._forget_curve(a)
             self.history.append(Merge("CP", cost, a, b, b))
         else:
-            merged, fd = self.merged.pop((a, b))
+            merged = self.merged.pop((a, b))
             n = st.merge_curves(a, b, merged)
-            self.curve_fd[n] = fd
+            self._forget_curve(a)
+            self._forget_curve(b)
             self.history.append(Merge("CC", cost, a, b, n, merged))
             partners = (self.cc_partners.pop(a, set()) | self.cc_partners.pop(b, set())) - {a, b}
             self.cc_partners[n] = set()
@@ -330,6 +331,12 @@ class Agglomerator:
         self.rings[p] = []
         self.outlines.pop(p, None)
         self.patch_fd.pop(p, None)
+
+    def _forget_curve(self, c: int) -> None:
+        """Drop what was kept of a curve that merged away (its samples and their points
+        as geometries are the bulk of a dense sketch's memory)."""
+        self.sampled.pop(c, None)
+        self.curve_fd.pop(c, None)
 
     def _compact(self) -> None:
         """Drop queue entries of merged-away primitives once they are most of the queue;

@@ -125,3 +125,23 @@ def test_guard_agrees_with_brute_force_on_crumbs_between_crossings(seed):
         assert guard.covered(removed, allowed) == expected
         verdicts.append(expected)
     assert any(verdicts) and not all(verdicts)
+
+
+def test_each_curves_cover_is_every_curve_near_all_its_samples():
+    """Covers come from the end points' neighbours (shared between curves) and a check of
+    the samples between: the same as measuring every sample against every curve."""
+    rng = np.random.default_rng(7)
+    strokes = [np.cumsum(rng.normal(0, 0.03, (15, 2)), axis=0) + rng.uniform(0, 0.2, 2)
+               for _ in range(15)]
+    cx = build_base_complex(strokes)
+    d_eps = 0.02
+    lines = lines_from(cx.curves)
+    guard = DistanceGuard(cx.curves, lines, d_eps, cx.curve_nodes, cx.node_curves)
+    sizes = []
+    for c in range(cx.num_curves):
+        pts = shapely.points(guard.samples[c])
+        near_all = shapely.dwithin(pts[:, None], lines[None, :], d_eps).all(axis=0)
+        near_all[c] = False
+        assert guard.cover(c).tolist() == np.flatnonzero(near_all).tolist()
+        sizes.append(len(guard.samples[c]))
+    assert min(sizes) == 2 and max(sizes) > 3  # crumbs and longer curves both seen
