@@ -78,7 +78,7 @@ class DistanceGuard:
         self._cover: dict[int, np.ndarray] = {}
         self._near: dict[int, np.ndarray] = {}  # curves whose box meets c's, widened
         self._ends: dict[int, frozenset[int]] = {}  # curves through c's end nodes
-        self._near_points: dict[tuple[float, float], np.ndarray] = {}
+        self._near_points: dict[tuple[float, float], np.ndarray] = {}  # curves near a point
         self._witness: dict[int, int] = {}  # an allowed curve that last covered c
         self._verdicts: dict[tuple, bool] = {}
 
