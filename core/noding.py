@@ -48,22 +48,28 @@ def more_crossings_than(strokes: list[np.ndarray], limit: int) -> int | None:
     if not segments:
         return None
     geoms = shapely.linestrings(np.concatenate(segments))
+    # a segment and the next one of its stroke share a point and never cross: left out
+    first = np.zeros(len(geoms), dtype=bool)
+    first[np.cumsum([0] + [len(s) for s in segments[:-1]])] = True
     tree = shapely.STRtree(geoms)
     # segments whose boxes overlap bound the crossings from above and cost a fraction of
     # the exact test: most sketches stop here
-    if _count_pairs(tree, geoms, limit, None) is None:
+    if _count_pairs(tree, geoms, first, limit, None) is None:
         return None
-    return _count_pairs(tree, geoms, limit, "crosses")
+    return _count_pairs(tree, geoms, first, limit, "crosses")
 
 
-def _count_pairs(tree: shapely.STRtree, geoms: np.ndarray, limit: int,
+def _count_pairs(tree: shapely.STRtree, geoms: np.ndarray, first: np.ndarray, limit: int,
                  predicate: str | None) -> int | None:
-    """Pairs of ``geoms`` meeting ``predicate`` (boxes overlapping if None), counted a
-    growing chunk at a time up to the first chunk past ``limit``; None if within it."""
+    """Pairs of ``geoms`` meeting ``predicate`` (boxes overlapping if None), but for a
+    segment and the next of its stroke (``first`` marks each stroke's first segment),
+    counted a growing chunk at a time up to the first chunk past ``limit``; None if
+    within it."""
     count, start, chunk = 0, 0, 256
     while start < len(geoms):
         i, j = tree.query(geoms[start:start + chunk], predicate=predicate)
-        count += int((i + start < j).sum())
+        i = i + start
+        count += int(((i < j) & ~((j == i + 1) & ~first[j])).sum())
         if count > limit:
             return count
         start, chunk = start + chunk, min(2 * chunk, 16384)

@@ -200,3 +200,7 @@ def test_crossing_count_is_exact_past_the_limit_and_none_within_it():
     brute = int(np.triu(shapely.crosses(lines[:, None], lines[None, :]), 1).sum())
     assert brute > 1000 and more_crossings_than(both, 100) >= 100
     assert more_crossings_than(both, brute - 1) == brute
+    # a zigzag's consecutive segments share points and overlapping boxes, and never cross
+    zigzag = np.stack([np.arange(300.0), np.tile([0.0, 1.0], 150)], axis=1)
+    assert more_crossings_than([zigzag], 10) is None
+    assert more_crossings_than([zigzag, zigzag + [0.5, 0]], 10) >= 10
