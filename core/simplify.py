@@ -16,7 +16,7 @@ from .geometry import polygons_from
 from .noding import more_crossings_than
 from .params import SimplifyParams
 from .sketch import Sketch, SketchError, Stroke
-from .to_strokes import to_strokes
+from .to_strokes import StrokeMemo, to_strokes
 
 
 @dataclass
@@ -35,7 +35,7 @@ class SimplifyResult:
     stats: AgglomerationStats | None = None
     _input: Sketch | None = field(default=None, repr=False)
     _ink: NearestInk | None = field(default=None, repr=False)
-    _fits: dict = field(default_factory=dict, repr=False)  # Bezier fits shared by .at()
+    _memo: StrokeMemo = field(default_factory=StrokeMemo, repr=False)  # shared by .at()
 
     def to_sketch(self) -> Sketch:
         src = self._input
@@ -59,7 +59,7 @@ class SimplifyResult:
         history = self.history[:state.merges_applied]
         timings = {"replay": time.perf_counter() - t0}
         return _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
-                       state, history, params, None, timings, self._fits)
+                       state, history, params, None, timings, self._memo)
 
     def regions(self) -> list[shapely.Polygon]:
         """The patches left, as polygons in input coordinates (what a fill can use)."""
@@ -79,10 +79,10 @@ def _counts(nodes: int, curves: int, patches: int, strokes: int) -> dict[str, in
 def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normalisation,
             cx: BaseComplex, state: ComplexState, history: list[Merge],
             params: SimplifyParams, stats: AgglomerationStats | None,
-            timings: dict[str, float], fits: dict | None = None) -> SimplifyResult:
+            timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
     t0 = time.perf_counter()
-    fits = {} if fits is None else fits
-    fitted = to_strokes(state, params, fits)
+    memo = StrokeMemo() if memo is None else memo
+    fitted = to_strokes(state, params, memo)
     t1 = time.perf_counter()
     strokes = []
     for f, (width, pressure, style, ids) in zip(fitted, ink.transfer([f.points for f in fitted])):
@@ -96,7 +96,7 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
         "after": _counts(nodes_after, state.num_curves, state.num_patches, len(strokes)),
     }
     return SimplifyResult(strokes, params, cx, state, history, norm, cleaning, counts, timings,
-                          stats, sketch, ink, fits)
+                          stats, sketch, ink, memo)
 
 
 def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyResult:

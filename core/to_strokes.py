@@ -21,7 +21,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -46,6 +46,19 @@ class FittedStroke:
     closed: bool
 
 
+@dataclass
+class StrokeMemo:
+    """What the output stage worked out, by content: results replayed at other epsilons (a
+    slider) pass through states that share most edges and most pairs of edges."""
+
+    fits: dict[bytes, np.ndarray] = field(default_factory=dict)  # Bezier fits by polyline
+    curves: dict[bytes, SampledCurve] = field(default_factory=dict)
+    descriptors: dict[bytes, np.ndarray] = field(default_factory=dict)
+    # side-by-side pairs (points and weights of both): their merged edge and its
+    # descriptor, or None when they do not pair
+    pairs: dict[tuple, tuple[np.ndarray, np.ndarray] | None] = field(default_factory=dict)
+
+
 def linework(state: ComplexState) -> list[Edge]:
     """The alive curves, each with the perimeter of the smallest patch it bounds."""
     lengths = [arc_lengths(c)[-1] for c in state.curves]
@@ -58,7 +71,8 @@ def linework(state: ComplexState) -> list[Edge]:
     return edges
 
 
-def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
+def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
+                   memo: StrokeMemo | None = None) -> list[Edge]:
     """The second curve-curve pass: merge side-by-side edges whose merge costs < epsilon.
 
     Candidate pairs (within d_eps; not two free curves, which agglomeration has judged;
@@ -67,28 +81,39 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
     edges have been merged into by then; a pair already merged into one is skipped, and
     every pair of current edges is judged once: costed, and merged if it still pairs and
     costs less than epsilon. Costed lazily this way, a dense cluster of k overlapping edges
-    costs about k merges, not the k * k pairs among them.
+    costs about k merges, not the k * k pairs among them. ``memo`` keeps what was worked
+    out for other runs of the pass.
     """
     d_eps = params.alpha
     pts = [e.points for e in edges]
     if len(pts) < 2:
         return edges
-    sampled: dict[int, SampledCurve] = {}
-    fds: dict[int, np.ndarray] = {}
+    memo = StrokeMemo() if memo is None else memo
     weights = [1.0] * len(pts)
     free = [e.free for e in edges]
     perimeter = [e.perimeter for e in edges]  # a merged edge bounds no one patch: inf
     root = np.arange(2 * len(pts))  # the current edge each edge has been merged into
 
     def curve(k: int) -> SampledCurve:
-        if k not in sampled:
-            sampled[k] = SampledCurve.of(pts[k], sample_spacing(d_eps))
-        return sampled[k]
+        key = pts[k].tobytes()
+        if key not in memo.curves:
+            memo.curves[key] = SampledCurve.of(pts[k], sample_spacing(d_eps))
+        return memo.curves[key]
 
     def fd(k: int) -> np.ndarray:
-        if k not in fds:
-            fds[k] = curve_descriptors([pts[k]], params.samples)[0]
-        return fds[k]
+        key = pts[k].tobytes()
+        if key not in memo.descriptors:
+            memo.descriptors[key] = curve_descriptors([pts[k]], params.samples)[0]
+        return memo.descriptors[key]
+
+    def paired(a: int, b: int) -> tuple[np.ndarray, np.ndarray] | None:
+        key = (pts[a].tobytes(), weights[a], pts[b].tobytes(), weights[b])
+        if key not in memo.pairs:
+            how, merged = pair_and_merge(curve(a), weights[a], curve(b), weights[b], d_eps,
+                                         params.angle, sides_only=True)
+            memo.pairs[key] = None if how is None else (
+                merged, curve_descriptors([merged], params.samples)[0])
+        return memo.pairs[key]
 
     lines = lines_from(pts)
     # pairs whose boxes come within d_eps: the probes below keep only pairs running side
@@ -106,16 +131,15 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams) -> list[Edge]:
     candidates = order[beside[order]]
     for a, b in _unjudged(i[candidates], j[candidates], root, judged):
         judged.add(a * len(root) + b)  # a merge replaces both: the pair never comes up again
-        how, merged = pair_and_merge(curve(a), weights[a], curve(b), weights[b], d_eps,
-                                     params.angle, sides_only=True)
-        if how is None:
+        pair = paired(a, b)
+        if pair is None:
             continue
-        new_fd = curve_descriptors([merged], params.samples)[0]
+        merged, new_fd = pair
         if min(fd_distance(fd(a), new_fd), fd_distance(fd(b), new_fd)) >= params.epsilon:
             continue
         n = len(pts)
         pts.append(merged)
-        fds[n] = new_fd
+        memo.descriptors.setdefault(merged.tobytes(), new_fd)
         weights.append(weights[a] + weights[b])
         free.append(False)
         perimeter.append(np.inf)
@@ -314,17 +338,18 @@ def split_at_tips(chains: list[Edge], d_eps: float) -> list[Edge]:
 
 
 def to_strokes(state: ComplexState, params: SimplifyParams,
-               fits: dict[bytes, np.ndarray] | None = None) -> list[FittedStroke]:
+               memo: StrokeMemo | None = None) -> list[FittedStroke]:
     """Output strokes (unit frame) of a simplified complex.
 
-    ``fits`` caches Bezier fits by polyline: results replayed at other epsilons (a slider)
-    share most strokes, and fitting is the costliest step here.
+    ``memo`` keeps Bezier fits and the bi-edge pass's work by content: results replayed at
+    other epsilons (a slider) share most strokes and most pairs of edges.
     """
     d_eps = params.alpha
     snap = d_eps / 2
-    fits = {} if fits is None else fits
+    memo = StrokeMemo() if memo is None else memo
+    fits = memo.fits
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
-    edges = merge_bi_edges(split_at_tips(chains, d_eps), params)
+    edges = merge_bi_edges(split_at_tips(chains, d_eps), params, memo)
     graph = build_graph(renode(edges), snap)
     graph = trim_spurs(graph, d_eps)
     graph = contract_short_edges(graph, d_eps, params.beta)
