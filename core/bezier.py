@@ -14,8 +14,6 @@ import numpy as np
 
 from .geometry import arc_lengths
 
-_M = np.array([[1, 0, 0, 0], [-3, 3, 0, 0], [3, -6, 3, 0], [-1, 3, -3, 1]], dtype=float)
-
 
 def _basis(t: np.ndarray) -> np.ndarray:
     """The cubic Bernstein basis at parameters t: (len(t), 4)."""

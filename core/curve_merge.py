@@ -23,7 +23,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 import shapely
 
-from .geometry import arc_lengths, resample_polyline, unit_tangents
+from .geometry import arc_lengths, points_at, resample_polyline, unit_tangents
 
 #: fraction of the shorter curve that must lie beside the longer one
 MIN_OVERLAP = 0.5
@@ -69,7 +69,7 @@ def _project(base: SampledCurve, curve: SampledCurve) -> tuple[np.ndarray, np.nd
     pts, geoms = curve.points, curve.point_geoms
     s = shapely.line_locate_point(base.line, geoms)
     # the closest point is where the line is at s: cheaper than GEOS measuring again
-    off = pts - _interp2(s, base.s, base.points)
+    off = pts - points_at(s, base.s, base.points)
     dist = np.hypot(off[:, 0], off[:, 1])
     b = base.points
     before = (pts - b[0]) @ base.tangents[0]
@@ -103,14 +103,6 @@ def _smoothstep(x: np.ndarray) -> np.ndarray:
     return x * x * (3 - 2 * x)
 
 
-def _interp2(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The polyline ``points`` with arc lengths ``s`` at arc lengths ``t``."""
-    out = np.empty((len(t), 2))
-    out[:, 0] = np.interp(t, s, points[:, 0])
-    out[:, 1] = np.interp(t, s, points[:, 1])
-    return out
-
-
 def _blend(long_: SampledCurve, wl: float, short: SampledCurve, ws: float, s_s: np.ndarray,
            d_eps: float, spacing: float) -> np.ndarray:
     pts_s = short.points
@@ -127,8 +119,8 @@ def _blend(long_: SampledCurve, wl: float, short: SampledCurve, ws: float, s_s: 
     in_s = (t >= start_s) & (t <= end_s)
     w_l = wl * in_l * (1e-3 + _smoothstep(np.minimum(t, end_l - t) / d_eps))
     w_s = ws * in_s * (1e-3 + _smoothstep(np.minimum(t - start_s, end_s - t) / d_eps))
-    pl = _interp2(t, s_l, long_.points)
-    ps = _interp2(t, s_s, pts_s) if end_s > start_s else np.repeat(pts_s[:1], n, axis=0)
+    pl = points_at(t, s_l, long_.points)
+    ps = points_at(t, s_s, pts_s) if end_s > start_s else np.repeat(pts_s[:1], n, axis=0)
     total = w_l + w_s
     keep = total > 0
     merged = (w_l[:, None] * pl + w_s[:, None] * ps)[keep] / total[keep][:, None]

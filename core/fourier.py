@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .geometry import arc_lengths
+from .geometry import arc_lengths, points_at
 
 DEFAULT_SAMPLES = 256
 
@@ -63,10 +63,7 @@ def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
         start = s[ends - sizes + 1]
         length = s[ends] - start
         t = (start[:, None] + where(fractions, length[:, None])).ravel()
-    out = np.empty((len(t), 2))
-    out[:, 0] = np.interp(t, s, points[:, 0])
-    out[:, 1] = np.interp(t, s, points[:, 1])
-    return out.reshape(len(lines), n, 2)
+    return points_at(t, s, points).reshape(len(lines), n, 2)
 
 
 @lru_cache(maxsize=8)

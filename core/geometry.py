@@ -49,7 +49,13 @@ def resample_polyline(points: np.ndarray, spacing: float) -> np.ndarray:
     n = max(4 if closed else 2, int(np.ceil(s[-1] / spacing)) + 1)
     t = np.arange(n) * (s[-1] / (n - 1))
     t[-1] = s[-1]
-    out = np.empty((n, 2))
+    return points_at(t, s, points)
+
+
+def points_at(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The polyline ``points``, whose arc length at each point is ``s``, at arc lengths
+    ``t`` (linear between its points)."""
+    out = np.empty((len(t), 2))
     out[:, 0] = np.interp(t, s, points[:, 0])
     out[:, 1] = np.interp(t, s, points[:, 1])
     return out

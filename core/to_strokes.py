@@ -72,7 +72,7 @@ def linework(state: ComplexState) -> list[Edge]:
 
 
 def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
-                   memo: StrokeMemo | None = None) -> list[Edge]:
+                   memo: StrokeMemo) -> list[Edge]:
     """The second curve-curve pass: merge side-by-side edges whose merge costs < epsilon.
 
     Candidate pairs (within d_eps; not two free curves, which agglomeration has judged;
@@ -88,7 +88,6 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
     pts = [e.points for e in edges]
     if len(pts) < 2:
         return edges
-    memo = StrokeMemo() if memo is None else memo
     weights = [1.0] * len(pts)
     free = [e.free for e in edges]
     perimeter = [e.perimeter for e in edges]  # a merged edge bounds no one patch: inf
@@ -338,7 +337,7 @@ def split_at_tips(chains: list[Edge], d_eps: float) -> list[Edge]:
 
 
 def to_strokes(state: ComplexState, params: SimplifyParams,
-               memo: StrokeMemo | None = None) -> list[FittedStroke]:
+               memo: StrokeMemo) -> list[FittedStroke]:
     """Output strokes (unit frame) of a simplified complex.
 
     ``memo`` keeps Bezier fits and the bi-edge pass's work by content: results replayed at
@@ -346,7 +345,6 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     """
     d_eps = params.alpha
     snap = d_eps / 2
-    memo = StrokeMemo() if memo is None else memo
     fits = memo.fits
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
     edges = merge_bi_edges(split_at_tips(chains, d_eps), params, memo)
