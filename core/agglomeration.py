@@ -37,7 +37,7 @@ import shapely
 
 from .base_complex import BaseComplex
 from .complex_state import ComplexState, Merge
-from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
+from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from .fourier import curve_descriptors, fd_distance, fourier_descriptors
 from .geometry import lines_from
 from .guard import DistanceGuard, PatchCurves
@@ -117,8 +117,16 @@ class Agglomerator:
 
     def _curve_fd(self, c: int) -> np.ndarray:
         if c not in self.curve_fd:
-            self.curve_fd[c] = curve_descriptors([self.state.curves[c]], self.params.samples)[0]
+            self._describe_curves([c])
         return self.curve_fd[c]
+
+    def _describe_curves(self, curves: list[int]) -> None:
+        """Describe the curves not yet described, in one batch (rows copied out of it, so
+        that a curve merged away frees its own row only)."""
+        missing = sorted({c for c in curves if c not in self.curve_fd})
+        if missing:
+            fds = curve_descriptors([self.state.curves[c] for c in missing], self.params.samples)
+            self.curve_fd.update((c, row.copy()) for c, row in zip(missing, fds))
 
     def _size(self, p: int) -> float:
         """Linear size of a patch: the square root of its outer ring's area."""
@@ -169,12 +177,13 @@ class Agglomerator:
         return self.geometry.with_spike(self.rings[p][0], nodes[0],
                                         spike_walk(st.curves[c], anchor))
 
-    def _cc_curve(self, a: int, b: int) -> np.ndarray | None:
-        """The curve that would replace A and B, or None when they do not pair."""
+    def _cc_curves(self, pairs: list[tuple[int, int]]) -> list[np.ndarray | None]:
+        """The curve that would replace each pair A, B, or None when they do not pair."""
         st = self.state
-        how, merged = pair_and_merge(self._sampled(a), st.curve_weight[a], self._sampled(b),
-                                     st.curve_weight[b], self.d_eps, self.params.angle)
-        return merged if how is not None else None
+        found = pair_and_merge_many(
+            [(self._sampled(a), st.curve_weight[a], self._sampled(b), st.curve_weight[b])
+             for a, b in pairs], self.d_eps, self.params.angle)
+        return [merged for _, merged in found]
 
     def _costs(self, kind: str, pairs: list[tuple[int, int]]) -> list[float]:
         """Costs of many pairs of one kind, their new shapes described in one batch.
@@ -182,14 +191,19 @@ class Agglomerator:
         PP: min(d(P, P u Q), d(Q, P u Q)); CP: d(P, P u C); CC: min(d(A, M), d(B, M)).
         """
         self.stats.pairs_costed[kind] += len(pairs)
-        make = {"PP": self._pp_outline, "CP": self._cp_outline, "CC": self._cc_curve}[kind]
-        shapes = [make(a, b) for a, b in pairs]
+        if kind == "CC":
+            shapes = self._cc_curves(pairs)
+        else:
+            make = self._pp_outline if kind == "PP" else self._cp_outline
+            shapes = [make(a, b) for a, b in pairs]
         valid = [i for i, shape in enumerate(shapes) if shape is not None]
         costs = [INF] * len(pairs)
         if valid:
             describe = curve_descriptors if kind == "CC" else fourier_descriptors
             new = describe([shapes[i] for i in valid], self.params.samples)
             ref = self._curve_fd if kind == "CC" else self._patch_fd
+            if kind == "CC":
+                self._describe_curves([c for i in valid for c in pairs[i]])
             first = np.stack([ref(pairs[i][0 if kind != "CP" else 1]) for i in valid])
             dist = fd_distance(first, new)
             if kind != "CP":

@@ -53,30 +53,20 @@ class SampledCurve:
         """From a polyline already resampled evenly."""
         return cls(pts, arc_lengths(pts), unit_tangents(pts), shapely.linestrings(pts))
 
-    @property
+    @cached_property
     def length(self) -> float:
         return float(self.s[-1])
+
+    @cached_property
+    def ends(self) -> np.ndarray:
+        """First point, first tangent, last point, last tangent, as one row of 8."""
+        return np.concatenate([self.points[0], self.tangents[0], self.points[-1],
+                               self.tangents[-1]])
 
     @cached_property
     def point_geoms(self) -> np.ndarray:
         """The points as shapely Points, made once: a curve is measured against many."""
         return shapely.points(self.points)
-
-
-def _project(base: SampledCurve, curve: SampledCurve) -> tuple[np.ndarray, np.ndarray]:
-    """Arc-length parameter of the points of ``curve`` along ``base``, extended linearly
-    past its ends, and their distance to it."""
-    pts, geoms = curve.points, curve.point_geoms
-    s = shapely.line_locate_point(base.line, geoms)
-    # the closest point is where the line is at s: cheaper than GEOS measuring again
-    off = pts - points_at(s, base.s, base.points)
-    dist = np.hypot(off[:, 0], off[:, 1])
-    b = base.points
-    before = (pts - b[0]) @ base.tangents[0]
-    after = (pts - b[-1]) @ base.tangents[-1]
-    s = np.where((s <= 1e-12) & (before < 0), before, s)
-    s = np.where((s >= base.length - 1e-12) & (after > 0), base.length + after, s)
-    return s, dist
 
 
 def _continues(a: SampledCurve, b: SampledCurve, d_eps: float, cos_max: float) -> bool:
@@ -98,45 +88,6 @@ def _straight_and_askew(a: SampledCurve, b: SampledCurve, cos_max: float) -> boo
     return abs(ca @ cb) / (la * lb) < cos_max
 
 
-def _smoothstep(x: np.ndarray) -> np.ndarray:
-    x = np.minimum(np.maximum(x, 0.0), 1.0)
-    return x * x * (3 - 2 * x)
-
-
-def _blend(long_: SampledCurve, wl: float, short: SampledCurve, ws: float, s_s: np.ndarray,
-           d_eps: float, spacing: float) -> np.ndarray:
-    pts_s = short.points
-    if s_s[-1] < s_s[0]:
-        pts_s, s_s = pts_s[::-1], s_s[::-1]
-    s_s = np.maximum.accumulate(s_s)
-    s_l = long_.s
-    end_l, start_s, end_s = float(s_l[-1]), float(s_s[0]), float(s_s[-1])
-    lo, hi = min(0.0, start_s), max(end_l, end_s)
-    n = max(2, math.ceil((hi - lo) / spacing) + 1)
-    t = np.arange(n) * ((hi - lo) / (n - 1)) + lo  # np.linspace(lo, hi, n), made directly
-    t[-1] = hi
-    in_l = (t >= 0) & (t <= end_l)
-    in_s = (t >= start_s) & (t <= end_s)
-    w_l = wl * in_l * (1e-3 + _smoothstep(np.minimum(t, end_l - t) / d_eps))
-    w_s = ws * in_s * (1e-3 + _smoothstep(np.minimum(t - start_s, end_s - t) / d_eps))
-    pl = points_at(t, s_l, long_.points)
-    ps = points_at(t, s_s, pts_s) if end_s > start_s else np.repeat(pts_s[:1], n, axis=0)
-    total = w_l + w_s
-    keep = total > 0
-    merged = (w_l[:, None] * pl + w_s[:, None] * ps)[keep] / total[keep][:, None]
-    d = merged[1:] - merged[:-1]
-    moves = np.empty(len(merged), dtype=bool)
-    moves[0] = True
-    np.greater(np.hypot(d[:, 0], d[:, 1]), 1e-12, out=moves[1:])
-    return merged[moves]
-
-
-def _median(x: np.ndarray) -> float:
-    """np.median of a 1-d array, without its generic machinery."""
-    x = np.sort(x)
-    m = len(x) // 2
-    return float(x[m]) if len(x) % 2 else float((x[m - 1] + x[m]) / 2)
-
 
 @lru_cache(maxsize=4096)
 def _probe_index(n: int) -> np.ndarray:
@@ -144,39 +95,242 @@ def _probe_index(n: int) -> np.ndarray:
     return np.linspace(0, n - 1, 9).astype(int)
 
 
+def _smoothstep(x: np.ndarray) -> np.ndarray:
+    x = np.minimum(np.maximum(x, 0.0), 1.0)
+    return x * x * (3 - 2 * x)
+
+
+def _starts(sizes: np.ndarray) -> np.ndarray:
+    """Where each of consecutive runs of these sizes starts."""
+    starts = np.zeros(len(sizes), dtype=np.intp)
+    if len(sizes) > 1:
+        np.cumsum(sizes[:-1], out=starts[1:])
+    return starts
+
+
+def _split(x: np.ndarray, sizes: np.ndarray) -> list[np.ndarray]:
+    """``x`` cut into consecutive runs of these sizes (np.split is slow for many)."""
+    if len(sizes) == 1:
+        return [x]
+    ends = np.cumsum(sizes).tolist()
+    return [x[a:b] for a, b in zip([0] + ends[:-1], ends)]
+
+
+@dataclass
+class _EndToEnd:
+    """Polylines laid end to end on one arc-length axis, each one unit past the end of the
+    one before, so that one ``np.interp`` samples any of them."""
+
+    s: np.ndarray  # the arc lengths, shifted, of all points
+    points: np.ndarray
+    first: np.ndarray  # per polyline: the index of its first point and of its last
+    last: np.ndarray
+    shift: np.ndarray  # per polyline: what its arc lengths were shifted by
+    lo: np.ndarray  # per polyline: its first and last arc length
+    hi: np.ndarray
+
+    @classmethod
+    def of(cls, arcs: list[np.ndarray], points: list[np.ndarray]) -> _EndToEnd:
+        if len(arcs) == 1:  # nothing to lay out (a pair costed on its own)
+            s = arcs[0]
+            return cls(s, points[0], np.zeros(1, dtype=np.intp), np.array([len(s) - 1]),
+                       np.zeros(1), s[:1], s[-1:])
+        sizes = np.fromiter(map(len, arcs), dtype=np.intp, count=len(arcs))
+        first = _starts(sizes)
+        last = first + sizes - 1
+        s = np.concatenate(arcs)
+        lo, hi = s[first], s[last]
+        shift = np.zeros(len(arcs))  # the first stays where it is
+        np.cumsum((hi - lo + 1.0)[:-1], out=shift[1:])
+        shift += lo[0] - lo
+        return cls(s + np.repeat(shift, sizes), np.concatenate(points), first, last, shift, lo,
+                   hi)
+
+    def at(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Polyline ``which[i]`` at its arc length ``t[i]``, held at its ends."""
+        t = np.minimum(np.maximum(t, self.lo[which]), self.hi[which]) + self.shift[which]
+        return points_at(t, self.s, self.points)
+
+    def index(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Index (into the points of all) of the first point of polyline ``which[i]`` at or
+        past arc length ``t[i]``, its last point if none is."""
+        idx = np.searchsorted(self.s, t + self.shift[which])
+        return np.minimum(np.maximum(idx, self.first[which]), self.last[which])
+
+
+def _project(bases: list[SampledCurve], curves: list[SampledCurve]
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, _EndToEnd]:
+    """Arc-length parameter of the points of each ``curves[k]`` along ``bases[k]``,
+    extended linearly past its ends, and their distance to it, all laid end to end.
+
+    Returns s, the distances, which pair each point belongs to and the bases laid end to
+    end."""
+    sizes = np.fromiter((len(c.points) for c in curves), dtype=np.intp, count=len(curves))
+    which = np.repeat(np.arange(len(curves)), sizes)
+    pts = np.concatenate([c.points for c in curves])
+    lines = np.array([b.line for b in bases], dtype=object)
+    s = shapely.line_locate_point(lines[which], np.concatenate([c.point_geoms for c in curves]))
+    laid = _EndToEnd.of([b.s for b in bases], [b.points for b in bases])
+    # the closest point is where the line is at s: cheaper than GEOS measuring again
+    off = pts - laid.at(which, s)
+    dist = np.hypot(off[:, 0], off[:, 1])
+    ends = np.array([b.ends for b in bases])[which]
+    before = (pts[:, 0] - ends[:, 0]) * ends[:, 2] + (pts[:, 1] - ends[:, 1]) * ends[:, 3]
+    after = (pts[:, 0] - ends[:, 4]) * ends[:, 6] + (pts[:, 1] - ends[:, 5]) * ends[:, 7]
+    length = laid.hi[which]
+    s = np.where((s <= 1e-12) & (before < 0), before, s)
+    s = np.where((s >= length - 1e-12) & (after > 0), length + after, s)
+    return s, dist, which, laid
+
+
+def _side_by_side(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: float,
+                  cos_max: float) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Whether each short curve runs beside its long one (most of it within d_eps, their
+    tangents there mostly within the angle), and the short curves' parameters along the
+    long ones."""
+    s, dist, which, laid = _project(longs, shorts)
+    sizes = np.bincount(which, minlength=len(shorts))
+    near = dist <= d_eps
+    count = np.bincount(which[near], minlength=len(shorts))
+    side = count / sizes >= MIN_OVERLAP
+    # the median |cos| of the tangent angle over each pair's near points
+    tangents = np.concatenate([c.tangents for c in shorts])[near]
+    long_tangents = np.concatenate([c.tangents for c in longs])
+    w = which[near]
+    idx = laid.index(w, s[near])
+    cos = np.abs(tangents[:, 0] * long_tangents[idx, 0] + tangents[:, 1] * long_tangents[idx, 1])
+    cos = cos[np.lexsort((cos, w))]
+    has = count > 0
+    mid = (_starts(count) + count // 2)[has]
+    median = np.zeros(len(shorts))
+    median[has] = (cos[mid - 1 + count[has] % 2] + cos[mid]) / 2  # odd: (x + x) / 2 = x
+    side &= median >= cos_max
+    return side, _split(s, sizes)
+
+
+def _blend(pairs: list[tuple[SampledCurve, float, SampledCurve, float, np.ndarray]],
+           d_eps: float) -> list[np.ndarray]:
+    """The merged polyline of each (long, its weight, short, its weight, the short's
+    parameters along the long): the weighted middle where they overlap, each alone where it
+    does not, blended over d_eps."""
+    n_pairs = len(pairs)
+    scalars = np.empty((n_pairs, 7))  # lo, step, end_l, start_s, end_s, w_l, w_s
+    counts = np.empty(n_pairs, dtype=np.intp)
+    shorts, arcs = [], []
+    for k, (long_, wl, short, ws, s_s) in enumerate(pairs):
+        pts_s = short.points
+        if s_s[-1] < s_s[0]:
+            pts_s, s_s = pts_s[::-1], s_s[::-1]
+        s_s = np.maximum.accumulate(s_s)
+        end_l, start_s, end_s = long_.length, float(s_s[0]), float(s_s[-1])
+        spacing = float(long_.s[1] - long_.s[0]) if len(long_.s) > 1 else sample_spacing(d_eps)
+        lo, hi = min(0.0, start_s), max(end_l, end_s)
+        n = max(2, math.ceil((hi - lo) / spacing) + 1)
+        counts[k] = n
+        scalars[k] = (lo, (hi - lo) / (n - 1), end_l, start_s, end_s, wl, ws)
+        shorts.append(pts_s)
+        arcs.append(s_s)
+    which = np.repeat(np.arange(n_pairs), counts)
+    first = _starts(counts)
+    lo, step, end_l, start_s, end_s, wl, ws = scalars[which].T
+    t = (np.arange(len(which)) - first[which]) * step + lo  # np.linspace, made directly
+    last = first + counts - 1
+    t[last] = np.maximum(scalars[:, 2], scalars[:, 4])
+    in_l = (t >= 0) & (t <= end_l)
+    in_s = (t >= start_s) & (t <= end_s)
+    w_l = wl * in_l * (1e-3 + _smoothstep(np.minimum(t, end_l - t) / d_eps))
+    w_s = ws * in_s * (1e-3 + _smoothstep(np.minimum(t - start_s, end_s - t) / d_eps))
+    pl = _EndToEnd.of([p[0].s for p in pairs], [p[0].points for p in pairs]).at(which, t)
+    ps = _EndToEnd.of(arcs, shorts).at(which, t)
+    point = scalars[:, 4] <= scalars[:, 3]  # the short curve projects to one point
+    if point.any():
+        rows = point[which]
+        ps[rows] = np.array([p[0] for p in shorts])[which[rows]]
+    total = w_l + w_s
+    keep = total > 0
+    merged = (w_l[:, None] * pl + w_s[:, None] * ps)[keep] / total[keep][:, None]
+    which = which[keep]
+    d = merged[1:] - merged[:-1]
+    moves = np.empty(len(merged), dtype=bool)
+    moves[:1] = True
+    np.greater(np.hypot(d[:, 0], d[:, 1]), 1e-12, out=moves[1:])
+    moves[1:] |= which[1:] != which[:-1]
+    merged, which = merged[moves], which[moves]
+    return _split(merged, np.bincount(which, minlength=n_pairs))
+
+
+def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledCurve]],
+            d_eps: float) -> np.ndarray:
+    """Whether every point of both parents lies within d_eps of their merged polyline."""
+    if len(merged) == 1:
+        lines = np.array([shapely.linestrings(merged[0])])
+    else:
+        lines = shapely.linestrings(np.concatenate(merged), indices=np.repeat(
+            np.arange(len(merged)), [len(m) for m in merged]))
+    geoms = [g for a, b in parents for g in (a.point_geoms, b.point_geoms)]
+    sizes = np.fromiter(map(len, geoms), dtype=np.intp, count=len(geoms))
+    dist = shapely.distance(np.concatenate(geoms), np.repeat(np.repeat(lines, 2), sizes))
+    far = np.maximum.reduceat(dist, _starts(sizes)) > d_eps
+    return ~(far[0::2] | far[1::2])
+
+
+def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, float]],
+                        d_eps: float, max_angle_deg: float, sides_only: bool = False
+                        ) -> list[tuple[str | None, np.ndarray | None]]:
+    """How each pair of weighted curves pairs ('side', 'end' or None) and, if it does,
+    their merged polyline.
+
+    The merged polyline keeps within d_eps of both curves, or the pair is refused. The
+    pairs are worked out together, a step at a time for all (the merge loop costs hundreds
+    of pairs at once, and each step is a few vectorised calls however many there are).
+    """
+    cos_max = math.cos(math.radians(max_angle_deg))
+    ordered = [(a, wa, b, wb) if a.length >= b.length else (b, wb, a, wa)
+               for a, wa, b, wb in pairs]
+    how: list[str | None] = [None] * len(pairs)
+    live = [k for k, (a, _, b, _) in enumerate(pairs) if not _straight_and_askew(a, b, cos_max)]
+    # a few points first: most candidate pairs only touch at a node and are refused here
+    along: dict[int, np.ndarray] = {}  # the short curve's parameters along the long one
+    if live:
+        probes = np.concatenate([ordered[k][2].point_geoms[_probe_index(
+            len(ordered[k][2].points))] for k in live])
+        lines = np.array([ordered[k][0].line for k in live], dtype=object)
+        near = (shapely.distance(probes, np.repeat(lines, 9)) <= d_eps).reshape(-1, 9)
+        probed = [k for k, hits in zip(live, np.count_nonzero(near, axis=1).tolist())
+                  if hits / 9 >= MIN_OVERLAP - 0.2]
+        if probed:
+            side, s = _side_by_side([ordered[k][0] for k in probed],
+                                    [ordered[k][2] for k in probed], d_eps, cos_max)
+            for k, beside, s_k in zip(probed, side.tolist(), s):
+                along[k] = s_k
+                how[k] = "side" if beside else None
+    if not sides_only:
+        ends = [k for k in live if how[k] is None
+                and _continues(pairs[k][0], pairs[k][2], d_eps, cos_max)]
+        fresh = [k for k in ends if k not in along]
+        if fresh:
+            s = _project([ordered[k][0] for k in fresh], [ordered[k][2] for k in fresh])[0]
+            sizes = np.array([len(ordered[k][2].points) for k in fresh])
+            along.update(zip(fresh, _split(s, sizes)))
+        for k in ends:
+            how[k] = "end"
+    paired = [k for k in range(len(pairs)) if how[k] is not None]
+    out: list[tuple[str | None, np.ndarray | None]] = [(None, None)] * len(pairs)
+    if not paired:
+        return out
+    merged = _blend([(*ordered[k], along[k]) for k in paired], d_eps)
+    enough = [(k, m) for k, m in zip(paired, merged) if len(m) >= 2]
+    if enough:
+        within = _within([m for _, m in enough], [(pairs[k][0], pairs[k][2]) for k, _ in enough],
+                         d_eps)
+        for (k, m), ok in zip(enough, within.tolist()):
+            if ok:
+                out[k] = (how[k], m.copy())  # a copy: a view would keep the whole batch
+    return out
+
+
 def pair_and_merge(a: SampledCurve, wa: float, b: SampledCurve, wb: float, d_eps: float,
                    max_angle_deg: float, sides_only: bool = False
                    ) -> tuple[str | None, np.ndarray | None]:
-    """How two curves pair ('side', 'end' or None) and, if they do, their merged polyline.
-
-    The merged polyline keeps within d_eps of both curves, or the pair is refused.
-    """
-    long_, wl, short, ws = (a, wa, b, wb) if a.length >= b.length else (b, wb, a, wa)
-    cos_max = math.cos(math.radians(max_angle_deg))
-    how = None
-    if _straight_and_askew(a, b, cos_max):
-        return None, None
-    # a few points first: most candidate pairs only touch at a node and are refused here
-    probe = short.point_geoms[_probe_index(len(short.points))]
-    if np.count_nonzero(shapely.distance(probe, long_.line) <= d_eps) / 9 >= MIN_OVERLAP - 0.2:
-        s, dist = _project(long_, short)
-        near = dist <= d_eps
-        if np.count_nonzero(near) / len(near) >= MIN_OVERLAP:
-            idx = np.minimum(np.searchsorted(long_.s, s[near]), len(long_.s) - 1)
-            cos = np.abs((short.tangents[near] * long_.tangents[idx]).sum(axis=1))
-            if _median(cos) >= cos_max:
-                how = "side"
-    if how is None and not sides_only and _continues(a, b, d_eps, cos_max):
-        how = "end"
-        s, _ = _project(long_, short)
-    if how is None:
-        return None, None
-    spacing = float(long_.s[1] - long_.s[0]) if len(long_.s) > 1 else sample_spacing(d_eps)
-    merged = _blend(long_, wl, short, ws, s, d_eps, spacing)
-    if len(merged) < 2:
-        return None, None
-    line = shapely.linestrings(merged)
-    for parent in (a, b):
-        if shapely.distance(parent.point_geoms, line).max() > d_eps:
-            return None, None
-    return how, merged
+    """:func:`pair_and_merge_many` of one pair."""
+    return pair_and_merge_many([(a, wa, b, wb)], d_eps, max_angle_deg, sides_only)[0]

@@ -20,7 +20,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -29,7 +29,7 @@ import shapely
 from .bezier import corner_indices, fit_bezier, sample
 from .complex_state import ComplexState
 from .components import component_labels
-from .curve_merge import SampledCurve, pair_and_merge, sample_spacing
+from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from .fourier import curve_descriptors, fd_distance
 from .geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
 from .noding import GRID
@@ -105,14 +105,23 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
             memo.descriptors[key] = curve_descriptors([pts[k]], params.samples)[0]
         return memo.descriptors[key]
 
-    def paired(a: int, b: int) -> tuple[np.ndarray, np.ndarray] | None:
-        key = (pts[a].tobytes(), weights[a], pts[b].tobytes(), weights[b])
-        if key not in memo.pairs:
-            how, merged = pair_and_merge(curve(a), weights[a], curve(b), weights[b], d_eps,
-                                         params.angle, sides_only=True)
-            memo.pairs[key] = None if how is None else (
-                merged, curve_descriptors([merged], params.samples)[0])
-        return memo.pairs[key]
+    def key(a: int, b: int) -> tuple:
+        return (pts[a].tobytes(), weights[a], pts[b].tobytes(), weights[b])
+
+    def judge(pairs: list[tuple[int, int]]) -> None:
+        """Pair and merge these pairs of edges at once, into the memo, and describe the
+        merged edges and the edges of those that pair (to be costed) in one batch."""
+        found = pair_and_merge_many([(curve(a), weights[a], curve(b), weights[b])
+                                     for a, b in pairs], d_eps, params.angle, sides_only=True)
+        merged = [m for _, m in found if m is not None]
+        parts = list(dict.fromkeys(k for (a, b), (_, m) in zip(pairs, found) if m is not None
+                                   for k in (a, b) if pts[k].tobytes() not in memo.descriptors))
+        fds = curve_descriptors(merged + [pts[k] for k in parts], params.samples)
+        memo.descriptors.update((pts[k].tobytes(), row.copy())
+                                for k, row in zip(parts, fds[len(merged):]))
+        rows = iter(fds)
+        for (a, b), (_, m) in zip(pairs, found):
+            memo.pairs[key(a, b)] = None if m is None else (m, next(rows).copy())
 
     lines = lines_from(pts)
     # pairs whose boxes come within d_eps: the probes below keep only pairs running side
@@ -128,9 +137,11 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
     order = np.lexsort((j, i, closeness))
     judged: set[int] = set()  # pairs of current edges judged (and not merged), as keys
     candidates = order[beside[order]]
-    for a, b in _unjudged(i[candidates], j[candidates], root, judged):
+    for a, b, later in _unjudged(i[candidates], j[candidates], root, judged):
         judged.add(a * len(root) + b)  # a merge replaces both: the pair never comes up again
-        pair = paired(a, b)
+        if key(a, b) not in memo.pairs:  # judged with the next few in one batch
+            judge([(a, b)] + [p for p in later(LOOK_AHEAD) if key(*p) not in memo.pairs])
+        pair = memo.pairs[key(a, b)]
         if pair is None:
             continue
         merged, new_fd = pair
@@ -147,14 +158,21 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
 
 
 def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray, judged: set[int],
-              block: int = 4096) -> Iterator[tuple[int, int]]:
+              block: int = 4096
+              ) -> Iterator[tuple[int, int, Callable[[int], list[tuple[int, int]]]]]:
     """The candidate pairs, in order, as pairs of the current edges they have been merged
-    into (smaller id first), leaving out those merged into one or judged before.
+    into (smaller id first), leaving out those merged into one or judged before; with each,
+    a function giving up to k of the pairs that follow it, as they stand then.
 
     ``root`` and ``judged`` are read as the caller updates them between pairs. A dense
     sketch has hundreds of thousands of candidates, most of them settled by earlier
     merges: they are dropped a block at a time with array operations."""
     size = len(root)
+
+    def current(u: int, v: int) -> tuple[int, int] | None:
+        a, b = sorted((int(root[u]), int(root[v])))
+        return (a, b) if a != b and a * size + b not in judged else None
+
     for start in range(0, len(first), block):
         x, y = first[start:start + block], second[start:start + block]
         a, b = root[x], root[y]
@@ -162,10 +180,12 @@ def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray, judged: s
         keep = lo != hi
         if judged:
             keep &= ~np.isin(lo * size + hi, np.fromiter(judged, np.int64, len(judged)))
-        for u, v in zip(x[keep].tolist(), y[keep].tolist()):
-            a, b = sorted((int(root[u]), int(root[v])))
-            if a != b and a * size + b not in judged:
-                yield a, b
+        xs, ys = x[keep].tolist(), y[keep].tolist()
+        for k, (u, v) in enumerate(zip(xs, ys)):
+            pair = current(u, v)
+            if pair is not None:
+                yield (*pair, lambda n, k=k, xs=xs, ys=ys: list(dict.fromkeys(filter(None, (
+                    current(u, v) for u, v in zip(xs[k + 1:k + 1 + n], ys[k + 1:k + 1 + n]))))))
 
 
 def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
@@ -205,6 +225,10 @@ def renode(edges: list[Edge]) -> list[Edge]:
     return [Edge(pts, edges[k].perimeter, edges[k].free)
             for pts, k in zip(split_coordinates(pieces), owner.tolist())]
 
+
+#: pairs of edges judged in one batch in the bi-edge pass: the one needed and those coming
+#: next (the later ones are wasted when a merge before them changes their edges)
+LOOK_AHEAD = 32
 
 #: spurs up to this many d_eps long are trimmed: overshoots past a corner or a crossing
 SPUR_LENGTH = 3.0

@@ -1,0 +1,83 @@
+"""Curve-curve pairing and merging, one pair at a time and many at once."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from core.curve_merge import SampledCurve, pair_and_merge, pair_and_merge_many, sample_spacing
+
+D_EPS = 0.012
+ANGLE = 30.0
+
+
+def _curve(points) -> SampledCurve:
+    return SampledCurve.of(np.asarray(points, dtype=float), sample_spacing(D_EPS))
+
+
+def _line(x0, y0, x1, y1, n=20, wobble=0.0, seed=0) -> SampledCurve:
+    t = np.linspace(0, 1, n)[:, None]
+    pts = (1 - t) * [x0, y0] + t * [x1, y1]
+    pts[1:-1] += np.random.default_rng(seed).normal(0, wobble, (n - 2, 2))
+    return _curve(pts)
+
+
+def test_side_by_side_strokes_merge_between_them():
+    a = _line(0, 0, 0.3, 0)
+    b = _line(0.02, 0.006, 0.28, 0.006)
+    how, merged = pair_and_merge(a, 1.0, b, 1.0, D_EPS, ANGLE)
+    assert how == "side"
+    inside = (merged[:, 0] > 0.05) & (merged[:, 0] < 0.25)
+    assert np.allclose(merged[inside, 1], 0.003, atol=1e-9)  # the middle, equal weights
+    assert merged[:, 0].min() == pytest.approx(0) and merged[:, 0].max() == pytest.approx(0.3)
+
+
+def test_weights_pull_the_merged_curve_to_the_heavier():
+    a = _line(0, 0, 0.3, 0)
+    b = _line(0, 0.006, 0.3, 0.006)
+    _, merged = pair_and_merge(a, 3.0, b, 1.0, D_EPS, ANGLE)
+    assert np.allclose(merged[5:-5, 1], 0.0015, atol=1e-9)
+
+
+def test_crossing_lines_and_far_lines_do_not_pair():
+    a = _line(0, 0, 0.3, 0)
+    assert pair_and_merge(a, 1.0, _line(0.15, -0.1, 0.15, 0.1), 1.0, D_EPS, ANGLE) == (None, None)
+    assert pair_and_merge(a, 1.0, _line(0, 0.05, 0.3, 0.05), 1.0, D_EPS, ANGLE) == (None, None)
+
+
+def test_a_stroke_carried_on_pairs_end_to_end_unless_only_sides_are_asked():
+    a = _line(0, 0, 0.2, 0)
+    b = _line(0.205, 0.001, 0.4, 0.002)
+    how, merged = pair_and_merge(a, 1.0, b, 1.0, D_EPS, ANGLE)
+    assert how == "end"
+    assert merged[:, 0].min() == pytest.approx(0) and merged[:, 0].max() == pytest.approx(0.4)
+    assert pair_and_merge(a, 1.0, b, 1.0, D_EPS, ANGLE, sides_only=True) == (None, None)
+
+
+def _assorted_curves() -> list[SampledCurve]:
+    """Strokes of a rough bundle, their reversals, crossings, continuations and crumbs."""
+    curves = [_line(0, 0.004 * k, 0.3 + 0.01 * k, 0.004 * k, wobble=0.001, seed=k)
+              for k in range(4)]
+    curves += [_curve(c.points[::-1]) for c in curves[:2]]
+    curves += [_line(0.1, -0.1, 0.12, 0.1), _line(0.305, 0.001, 0.5, 0.01, seed=9),
+               _line(0.15, 0.002, 0.152, 0.003, n=2)]
+    arc = np.linspace(0, np.pi / 2, 40)
+    curves += [_curve(np.c_[0.3 * np.cos(arc), 0.3 * np.sin(arc)] + [0, -0.3 + 0.005 * k])
+               for k in range(2)]
+    return curves
+
+
+@pytest.mark.parametrize("sides_only", [False, True])
+def test_many_pairs_at_once_are_each_pair_on_its_own(sides_only):
+    curves = _assorted_curves()
+    pairs = [(curves[i], 1.0 + i % 3, curves[j], 1.0 + j % 2)
+             for i in range(len(curves)) for j in range(i + 1, len(curves))]
+    together = pair_and_merge_many(pairs, D_EPS, ANGLE, sides_only)
+    alone = [pair_and_merge(*p, D_EPS, ANGLE, sides_only) for p in pairs]
+    kinds = {how for how, _ in alone}
+    assert kinds == ({None, "side"} if sides_only else {None, "side", "end"})
+    for (how, merged), (how1, merged1) in zip(together, alone):
+        assert how == how1
+        if how is not None:
+            assert merged.shape == merged1.shape
+            np.testing.assert_allclose(merged, merged1, atol=1e-12)
