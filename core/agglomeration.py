@@ -111,12 +111,18 @@ class Agglomerator:
 
     def _sampled(self, c: int) -> SampledCurve:
         if c not in self.sampled:
-            if c < len(self.guard.samples):  # a base curve: the guard sampled it alike
-                self.sampled[c] = SampledCurve.of_samples(self.guard.samples[c])
-            else:
-                self.sampled[c] = SampledCurve.of(self.state.curves[c],
-                                                  sample_spacing(self.d_eps))
+            self._sample([c])
         return self.sampled[c]
+
+    def _sample(self, curves: list[int]) -> None:
+        """Sample the curves not sampled yet, together. A base curve takes the samples the
+        guard made of it alike; a merged curve is resampled."""
+        missing = sorted({c for c in curves if c not in self.sampled})
+        base = [c for c in missing if c < len(self.guard.samples)]
+        new = [c for c in missing if c >= len(self.guard.samples)]
+        self.sampled.update(zip(base, SampledCurve.many([self.guard.samples[c] for c in base])))
+        self.sampled.update(zip(new, SampledCurve.many([self.state.curves[c] for c in new],
+                                                       sample_spacing(self.d_eps))))
 
     def _curve_fd(self, c: int) -> np.ndarray:
         if c not in self.curve_fd:
@@ -183,6 +189,7 @@ class Agglomerator:
     def _cc_curves(self, pairs: list[tuple[int, int]]) -> list[np.ndarray | None]:
         """The curve that would replace each pair A, B, or None when they do not pair."""
         st = self.state
+        self._sample([c for pair in pairs for c in pair])
         found = pair_and_merge_many(
             [(self._sampled(a), st.curve_weight[a], self._sampled(b), st.curve_weight[b])
              for a, b in pairs], self.d_eps, self.params.angle)

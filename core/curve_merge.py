@@ -23,7 +23,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 import shapely
 
-from .geometry import arc_lengths, points_at, resample_polyline, unit_tangents
+from .geometry import points_at
 
 #: fraction of the shorter curve that must lie beside the longer one
 MIN_OVERLAP = 0.5
@@ -45,13 +45,29 @@ class SampledCurve:
     line: shapely.LineString
 
     @classmethod
-    def of(cls, points: np.ndarray, spacing: float) -> SampledCurve:
-        return cls.of_samples(resample_polyline(points, spacing))
-
-    @classmethod
-    def of_samples(cls, pts: np.ndarray) -> SampledCurve:
-        """From a polyline already resampled evenly."""
-        return cls(pts, arc_lengths(pts), unit_tangents(pts), shapely.linestrings(pts))
+    def many(cls, polylines: list[np.ndarray], spacing: float | None = None
+             ) -> list[SampledCurve]:
+        """Polylines resampled evenly at ``spacing`` as by :func:`resample_polyline` (or
+        already resampled: None), all at once."""
+        if not polylines:
+            return []
+        sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+        points = np.concatenate(polylines)
+        if spacing is not None:
+            points, sizes = _resample_all(points, sizes, spacing)
+        first = _starts(sizes)
+        last = first + sizes - 1
+        s = _arc_lengths_all(points, first)
+        d = np.empty_like(points)  # central differences, one-sided at each end
+        d[1:-1] = (points[2:] - points[:-2]) / 2
+        d[first] = points[first + 1] - points[first]
+        d[last] = points[last] - points[last - 1]
+        norm = np.hypot(d[:, 0], d[:, 1])
+        tangents = d / np.where(norm > 0, norm, 1.0)[:, None]
+        lines = shapely.linestrings(points, indices=np.repeat(np.arange(len(sizes)), sizes))
+        # copies: a view would keep the whole batch while any one curve lives
+        return [cls(points[a:b].copy(), s[a:b].copy(), tangents[a:b].copy(), line)
+                for a, b, line in zip(first.tolist(), (last + 1).tolist(), lines)]
 
     @cached_property
     def length(self) -> float:
@@ -108,6 +124,35 @@ def _starts(sizes: np.ndarray) -> np.ndarray:
     return starts
 
 
+def _arc_lengths_all(points: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """Arc lengths along consecutive polylines starting at indices ``first``, each from 0."""
+    d = points[1:] - points[:-1]
+    step = np.empty(len(points))
+    step[0] = 0.0
+    np.hypot(d[:, 0], d[:, 1], out=step[1:])
+    step[first] = 0.0
+    s = np.cumsum(step)
+    return s - np.repeat(s[first], np.diff(np.append(first, len(points))))
+
+
+def _resample_all(points: np.ndarray, sizes: np.ndarray, spacing: float
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Consecutive polylines each resampled as by :func:`resample_polyline`; the points of
+    all and the new sizes."""
+    first = _starts(sizes)
+    last = first + sizes - 1
+    s = _arc_lengths_all(points, first)
+    length = s[last]
+    closed = (sizes > 2) & (points[first] == points[last]).all(axis=1)
+    n = np.maximum(np.where(closed, 4, 2), np.ceil(length / spacing).astype(np.intp) + 1)
+    laid = _EndToEnd.of_flat(s, points, first, last)
+    which = np.repeat(np.arange(len(n)), n)
+    start = _starts(n)
+    t = (np.arange(len(which)) - start[which]) * (length / (n - 1))[which]
+    t[start + n - 1] = length
+    return laid.at(which, t), n
+
+
 def _split(x: np.ndarray, sizes: np.ndarray) -> list[np.ndarray]:
     """``x`` cut into consecutive runs of these sizes (np.split is slow for many)."""
     if len(sizes) == 1:
@@ -137,14 +182,18 @@ class _EndToEnd:
                        np.zeros(1), s[:1], s[-1:])
         sizes = np.fromiter(map(len, arcs), dtype=np.intp, count=len(arcs))
         first = _starts(sizes)
-        last = first + sizes - 1
-        s = np.concatenate(arcs)
+        return cls.of_flat(np.concatenate(arcs), np.concatenate(points), first,
+                           first + sizes - 1)
+
+    @classmethod
+    def of_flat(cls, s: np.ndarray, points: np.ndarray, first: np.ndarray, last: np.ndarray
+                ) -> _EndToEnd:
+        """From the arc lengths and points of all, and where each polyline starts and ends."""
         lo, hi = s[first], s[last]
-        shift = np.zeros(len(arcs))  # the first stays where it is
+        shift = np.zeros(len(first))  # the first stays where it is
         np.cumsum((hi - lo + 1.0)[:-1], out=shift[1:])
         shift += lo[0] - lo
-        return cls(s + np.repeat(shift, sizes), np.concatenate(points), first, last, shift, lo,
-                   hi)
+        return cls(s + np.repeat(shift, last - first + 1), points, first, last, shift, lo, hi)
 
     def at(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Polyline ``which[i]`` at its arc length ``t[i]``, held at its ends."""

@@ -59,16 +59,3 @@ def points_at(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
     out[:, 0] = np.interp(t, s, points[:, 0])
     out[:, 1] = np.interp(t, s, points[:, 1])
     return out
-
-
-def unit_tangents(points: np.ndarray) -> np.ndarray:
-    """Unit tangent at each point (central differences, one-sided at the ends)."""
-    d = np.empty_like(points)
-    if len(points) > 2:
-        d[1:-1] = (points[2:] - points[:-2]) / 2
-        d[0] = points[1] - points[0]
-        d[-1] = points[-1] - points[-2]
-    else:
-        d[:] = points[1] - points[0]
-    norm = np.hypot(d[:, 0], d[:, 1])
-    return d / np.where(norm > 0, norm, 1.0)[:, None]

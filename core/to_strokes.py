@@ -94,10 +94,14 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
     root = np.arange(2 * len(pts))  # the current edge each edge has been merged into
 
     def curve(k: int) -> SampledCurve:
-        key = pts[k].tobytes()
-        if key not in memo.curves:
-            memo.curves[key] = SampledCurve.of(pts[k], sample_spacing(d_eps))
-        return memo.curves[key]
+        return memo.curves[pts[k].tobytes()]
+
+    def sample(edges: list[int]) -> None:
+        """Sample the edges not sampled yet, together."""
+        missing = list({pts[k].tobytes(): k for k in edges
+                        if pts[k].tobytes() not in memo.curves}.items())
+        memo.curves.update(zip([key for key, _ in missing], SampledCurve.many(
+            [pts[k] for _, k in missing], sample_spacing(d_eps))))
 
     def fd(k: int) -> np.ndarray:
         key = pts[k].tobytes()
@@ -111,6 +115,7 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
     def judge(pairs: list[tuple[int, int]]) -> None:
         """Pair and merge these pairs of edges at once, into the memo, and describe the
         merged edges and the edges of those that pair (to be costed) in one batch."""
+        sample([k for pair in pairs for k in pair])
         found = pair_and_merge_many([(curve(a), weights[a], curve(b), weights[b])
                                      for a, b in pairs], d_eps, params.angle, sides_only=True)
         merged = [m for _, m in found if m is not None]

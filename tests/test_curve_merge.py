@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 
 from core.curve_merge import SampledCurve, pair_and_merge, pair_and_merge_many, sample_spacing
+from core.geometry import arc_lengths, resample_polyline
 
 D_EPS = 0.012
 ANGLE = 30.0
 
 
 def _curve(points) -> SampledCurve:
-    return SampledCurve.of(np.asarray(points, dtype=float), sample_spacing(D_EPS))
+    return SampledCurve.many([np.asarray(points, dtype=float)], sample_spacing(D_EPS))[0]
 
 
 def _line(x0, y0, x1, y1, n=20, wobble=0.0, seed=0) -> SampledCurve:
@@ -81,3 +82,23 @@ def test_many_pairs_at_once_are_each_pair_on_its_own(sides_only):
         if how is not None:
             assert merged.shape == merged1.shape
             np.testing.assert_allclose(merged, merged1, atol=1e-12)
+
+
+def test_curves_sampled_together_are_each_sampled_alone():
+    rng = np.random.default_rng(3)
+    arc = np.linspace(0, 2 * np.pi, 30)
+    polylines = [rng.random((k, 2)) * 0.2 for k in (2, 3, 17)]
+    polylines += [np.c_[np.cos(arc), np.sin(arc)] * 0.01, np.array([[0.1, 0.1], [0.1, 0.1]])]
+    spacing = sample_spacing(D_EPS)
+    together = SampledCurve.many(polylines, spacing)
+    for polyline, curve in zip(polylines, together):
+        alone = SampledCurve.many([polyline], spacing)[0]
+        np.testing.assert_allclose(curve.points, resample_polyline(polyline, spacing),
+                                   atol=1e-12)
+        np.testing.assert_allclose(curve.s, arc_lengths(curve.points), atol=1e-12)
+        for a, b in ((curve.points, alone.points), (curve.tangents, alone.tangents)):
+            np.testing.assert_allclose(a, b, atol=1e-12)
+        assert np.allclose(np.hypot(*curve.tangents.T), 1) or curve.length == 0
+    assert len(together[3].points) >= 4  # a loop stays a loop
+    line = SampledCurve.many([np.array([[0.0, 0.0], [0.3, 0.4]])], spacing)[0]
+    np.testing.assert_allclose(line.tangents, np.tile([0.6, 0.8], (len(line.points), 1)))
