@@ -235,8 +235,10 @@ class Agglomerator:
         """
         if kind == "CC" and (a, b) not in self.precosted:
             batch = sorted({p for p in self.pending_cc if self._alive("CC", *p)} | {(a, b)})
-            self.precosted.update(zip(batch, self._costs("CC", batch)))
             self.pending_cc.clear()
+            for k in range(0, len(batch), COST_BATCH):
+                chunk = batch[k:k + COST_BATCH]
+                self.precosted.update(zip(chunk, self._costs("CC", chunk)))
         cost = self.precosted.pop((a, b)) if kind == "CC" else self._costs(kind, [(a, b)])[0]
         self.known[(kind, a, b)] = cost
         return cost
@@ -273,7 +275,7 @@ class Agglomerator:
         self.known[(kind, a, b)] = estimate
         if estimate < INF:
             self._push(estimate * (PP_ESTIMATE if kind != "CC" else 1.0), kind, a, b, False)
-            if kind == "CC":
+            if kind == "CC" and estimate < self.params.epsilon:  # a pair that may come up
                 self.pending_cc.add((a, b))
 
     def _alive(self, kind: str, a: int, b: int) -> bool:
