@@ -23,7 +23,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 import shapely
 
-from .geometry import points_at
+from .ragged import Polylines, arc_lengths, split, starts
 
 #: fraction of the shorter curve that must lie beside the longer one
 MIN_OVERLAP = 0.5
@@ -55,9 +55,9 @@ class SampledCurve:
         points = np.concatenate(polylines)
         if spacing is not None:
             points, sizes = _resample_all(points, sizes, spacing)
-        first = _starts(sizes)
+        first = starts(sizes)
         last = first + sizes - 1
-        s = _arc_lengths_all(points, first)
+        s = arc_lengths(points, first, last)
         d = np.empty_like(points)  # central differences, one-sided at each end
         d[1:-1] = (points[2:] - points[:-2]) / 2
         d[first] = points[first + 1] - points[first]
@@ -116,120 +116,47 @@ def _smoothstep(x: np.ndarray) -> np.ndarray:
     return x * x * (3 - 2 * x)
 
 
-def _starts(sizes: np.ndarray) -> np.ndarray:
-    """Where each of consecutive runs of these sizes starts."""
-    starts = np.zeros(len(sizes), dtype=np.intp)
-    if len(sizes) > 1:
-        np.cumsum(sizes[:-1], out=starts[1:])
-    return starts
-
-
-def _arc_lengths_all(points: np.ndarray, first: np.ndarray) -> np.ndarray:
-    """Arc lengths along consecutive polylines starting at indices ``first``, each from 0."""
-    d = points[1:] - points[:-1]
-    step = np.empty(len(points))
-    step[0] = 0.0
-    np.hypot(d[:, 0], d[:, 1], out=step[1:])
-    step[first] = 0.0
-    s = np.cumsum(step)
-    return s - np.repeat(s[first], np.diff(np.append(first, len(points))))
-
-
 def _resample_all(points: np.ndarray, sizes: np.ndarray, spacing: float
                   ) -> tuple[np.ndarray, np.ndarray]:
     """Consecutive polylines each resampled as by :func:`resample_polyline`; the points of
     all and the new sizes."""
-    first = _starts(sizes)
+    first = starts(sizes)
     last = first + sizes - 1
-    s = _arc_lengths_all(points, first)
+    s = arc_lengths(points, first, last)
     length = s[last]
     closed = (sizes > 2) & (points[first] == points[last]).all(axis=1)
     n = np.maximum(np.where(closed, 4, 2), np.ceil(length / spacing).astype(np.intp) + 1)
-    laid = _EndToEnd.of_flat(s, points, first, last)
+    lines = Polylines.of_flat(s, points, first, last)
     which = np.repeat(np.arange(len(n)), n)
-    start = _starts(n)
+    start = starts(n)
     t = (np.arange(len(which)) - start[which]) * (length / (n - 1))[which]
     t[start + n - 1] = length
-    return laid.at(which, t), n
-
-
-def _split(x: np.ndarray, sizes: np.ndarray) -> list[np.ndarray]:
-    """``x`` cut into consecutive runs of these sizes (np.split is slow for many)."""
-    if len(sizes) == 1:
-        return [x]
-    ends = np.cumsum(sizes).tolist()
-    return [x[a:b] for a, b in zip([0] + ends[:-1], ends)]
-
-
-@dataclass
-class _EndToEnd:
-    """Polylines laid end to end on one arc-length axis, each one unit past the end of the
-    one before, so that one ``np.interp`` samples any of them."""
-
-    s: np.ndarray  # the arc lengths, shifted, of all points
-    points: np.ndarray
-    first: np.ndarray  # per polyline: the index of its first point and of its last
-    last: np.ndarray
-    shift: np.ndarray  # per polyline: what its arc lengths were shifted by
-    lo: np.ndarray  # per polyline: its first and last arc length
-    hi: np.ndarray
-
-    @classmethod
-    def of(cls, arcs: list[np.ndarray], points: list[np.ndarray]) -> _EndToEnd:
-        if len(arcs) == 1:  # nothing to lay out (a pair costed on its own)
-            s = arcs[0]
-            return cls(s, points[0], np.zeros(1, dtype=np.intp), np.array([len(s) - 1]),
-                       np.zeros(1), s[:1], s[-1:])
-        sizes = np.fromiter(map(len, arcs), dtype=np.intp, count=len(arcs))
-        first = _starts(sizes)
-        return cls.of_flat(np.concatenate(arcs), np.concatenate(points), first,
-                           first + sizes - 1)
-
-    @classmethod
-    def of_flat(cls, s: np.ndarray, points: np.ndarray, first: np.ndarray, last: np.ndarray
-                ) -> _EndToEnd:
-        """From the arc lengths and points of all, and where each polyline starts and ends."""
-        lo, hi = s[first], s[last]
-        shift = np.zeros(len(first))  # the first stays where it is
-        np.cumsum((hi - lo + 1.0)[:-1], out=shift[1:])
-        shift += lo[0] - lo
-        return cls(s + np.repeat(shift, last - first + 1), points, first, last, shift, lo, hi)
-
-    def at(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """Polyline ``which[i]`` at its arc length ``t[i]``, held at its ends."""
-        t = np.minimum(np.maximum(t, self.lo[which]), self.hi[which]) + self.shift[which]
-        return points_at(t, self.s, self.points)
-
-    def index(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """Index (into the points of all) of the first point of polyline ``which[i]`` at or
-        past arc length ``t[i]``, its last point if none is."""
-        idx = np.searchsorted(self.s, t + self.shift[which])
-        return np.minimum(np.maximum(idx, self.first[which]), self.last[which])
+    return lines.at(which, t), n
 
 
 def _project(bases: list[SampledCurve], curves: list[SampledCurve]
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, _EndToEnd]:
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, Polylines]:
     """Arc-length parameter of the points of each ``curves[k]`` along ``bases[k]``,
-    extended linearly past its ends, and their distance to it, all laid end to end.
+    extended linearly past its ends, and their distance to it, for all the points at once.
 
-    Returns s, the distances, which pair each point belongs to and the bases laid end to
-    end."""
+    Returns s, the distances, which pair each point belongs to, and the bases as one
+    :class:`Polylines`."""
     sizes = np.fromiter((len(c.points) for c in curves), dtype=np.intp, count=len(curves))
     which = np.repeat(np.arange(len(curves)), sizes)
     pts = np.concatenate([c.points for c in curves])
     lines = np.array([b.line for b in bases], dtype=object)
     s = shapely.line_locate_point(lines[which], np.concatenate([c.point_geoms for c in curves]))
-    laid = _EndToEnd.of([b.s for b in bases], [b.points for b in bases])
+    bases_ = Polylines.of([b.s for b in bases], [b.points for b in bases])
     # the closest point is where the line is at s: cheaper than GEOS measuring again
-    off = pts - laid.at(which, s)
+    off = pts - bases_.at(which, s)
     dist = np.hypot(off[:, 0], off[:, 1])
     ends = np.array([b.ends for b in bases])[which]
     before = (pts[:, 0] - ends[:, 0]) * ends[:, 2] + (pts[:, 1] - ends[:, 1]) * ends[:, 3]
     after = (pts[:, 0] - ends[:, 4]) * ends[:, 6] + (pts[:, 1] - ends[:, 5]) * ends[:, 7]
-    length = laid.hi[which]
+    length = bases_.s[bases_.last][which]
     s = np.where((s <= 1e-12) & (before < 0), before, s)
     s = np.where((s >= length - 1e-12) & (after > 0), length + after, s)
-    return s, dist, which, laid
+    return s, dist, which, bases_
 
 
 def _side_by_side(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: float,
@@ -237,7 +164,7 @@ def _side_by_side(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: 
     """Whether each short curve runs beside its long one (most of it within d_eps, their
     tangents there mostly within the angle), and the short curves' parameters along the
     long ones."""
-    s, dist, which, laid = _project(longs, shorts)
+    s, dist, which, bases_ = _project(longs, shorts)
     sizes = np.bincount(which, minlength=len(shorts))
     near = dist <= d_eps
     count = np.bincount(which[near], minlength=len(shorts))
@@ -246,15 +173,15 @@ def _side_by_side(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: 
     tangents = np.concatenate([c.tangents for c in shorts])[near]
     long_tangents = np.concatenate([c.tangents for c in longs])
     w = which[near]
-    idx = laid.index(w, s[near])
+    idx = bases_.index(w, s[near])
     cos = np.abs(tangents[:, 0] * long_tangents[idx, 0] + tangents[:, 1] * long_tangents[idx, 1])
     cos = cos[np.lexsort((cos, w))]
     has = count > 0
-    mid = (_starts(count) + count // 2)[has]
+    mid = (starts(count) + count // 2)[has]
     median = np.zeros(len(shorts))
     median[has] = (cos[mid - 1 + count[has] % 2] + cos[mid]) / 2  # odd: (x + x) / 2 = x
     side &= median >= cos_max
-    return side, _split(s, sizes)
+    return side, split(s, sizes)
 
 
 def _blend(pairs: list[tuple[SampledCurve, float, SampledCurve, float, np.ndarray]],
@@ -280,7 +207,7 @@ def _blend(pairs: list[tuple[SampledCurve, float, SampledCurve, float, np.ndarra
         shorts.append(pts_s)
         arcs.append(s_s)
     which = np.repeat(np.arange(n_pairs), counts)
-    first = _starts(counts)
+    first = starts(counts)
     lo, step, end_l, start_s, end_s, wl, ws = scalars[which].T
     t = (np.arange(len(which)) - first[which]) * step + lo  # np.linspace, made directly
     last = first + counts - 1
@@ -289,8 +216,8 @@ def _blend(pairs: list[tuple[SampledCurve, float, SampledCurve, float, np.ndarra
     in_s = (t >= start_s) & (t <= end_s)
     w_l = wl * in_l * (1e-3 + _smoothstep(np.minimum(t, end_l - t) / d_eps))
     w_s = ws * in_s * (1e-3 + _smoothstep(np.minimum(t - start_s, end_s - t) / d_eps))
-    pl = _EndToEnd.of([p[0].s for p in pairs], [p[0].points for p in pairs]).at(which, t)
-    ps = _EndToEnd.of(arcs, shorts).at(which, t)
+    pl = Polylines.of([p[0].s for p in pairs], [p[0].points for p in pairs]).at(which, t)
+    ps = Polylines.of(arcs, shorts).at(which, t)
     point = scalars[:, 4] <= scalars[:, 3]  # the short curve projects to one point
     if point.any():
         rows = point[which]
@@ -305,7 +232,7 @@ def _blend(pairs: list[tuple[SampledCurve, float, SampledCurve, float, np.ndarra
     np.greater(np.hypot(d[:, 0], d[:, 1]), 1e-12, out=moves[1:])
     moves[1:] |= which[1:] != which[:-1]
     merged, which = merged[moves], which[moves]
-    return _split(merged, np.bincount(which, minlength=n_pairs))
+    return split(merged, np.bincount(which, minlength=n_pairs))
 
 
 def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledCurve]],
@@ -319,7 +246,7 @@ def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledC
     geoms = [g for a, b in parents for g in (a.point_geoms, b.point_geoms)]
     sizes = np.fromiter(map(len, geoms), dtype=np.intp, count=len(geoms))
     dist = shapely.distance(np.concatenate(geoms), np.repeat(np.repeat(lines, 2), sizes))
-    far = np.maximum.reduceat(dist, _starts(sizes)) > d_eps
+    far = np.maximum.reduceat(dist, starts(sizes)) > d_eps
     return ~(far[0::2] | far[1::2])
 
 
@@ -360,7 +287,7 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
         if fresh:
             s = _project([ordered[k][0] for k in fresh], [ordered[k][2] for k in fresh])[0]
             sizes = np.array([len(ordered[k][2].points) for k in fresh])
-            along.update(zip(fresh, _split(s, sizes)))
+            along.update(zip(fresh, split(s, sizes)))
         for k in ends:
             how[k] = "end"
     paired = [k for k in range(len(pairs)) if how[k] is not None]

@@ -5,8 +5,8 @@ R(t) is transformed with the FFT; the descriptor is |a_1..a_N/2| / |a_0|. Two sh
 by the Euclidean distance of their descriptors. Magnitudes make it independent of the start
 point and rotation, the centroid of translation, and dividing by |a_0| of scale.
 
-Many rings are resampled at once with one np.interp over their arcs laid end to end, and
-transformed with one FFT: the merge loop costs many pairs in a batch.
+Many rings are resampled at once, laid end to end (:mod:`core.ragged`), and transformed
+with one FFT: the merge loop costs many pairs in a batch.
 
 A curve is described as the slender ring p0 .. p_n-1, p_n-2 .. p1 (walked there and back).
 """
@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .geometry import arc_lengths, points_at
+from .ragged import Polylines, arc_lengths, starts
 
 DEFAULT_SAMPLES = 256
 
@@ -40,30 +40,16 @@ def resample_rings(rings: list[np.ndarray], n: int) -> np.ndarray:
 
 
 def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
-    """Samples of many polylines at arc positions ``where(k / n, length)``, k < n.
-
-    The polylines are laid end to end on one arc-length axis, each starting one unit past
-    the end of the one before, so that a single ``np.interp`` serves them all.
-    """
-    fractions = _fractions(n)
-    if len(lines) == 1:  # the common case in the merge loop: one new shape costed
-        points = lines[0]
-        s = arc_lengths(points)
-        t = where(fractions, s[-1])
-    else:
-        points = np.concatenate(lines)
-        sizes = np.fromiter(map(len, lines), dtype=np.intp, count=len(lines))
-        ends = np.cumsum(sizes) - 1
-        d = points[1:] - points[:-1]
-        seg = np.hypot(d[:, 0], d[:, 1])
-        seg[ends[:-1]] = 1.0  # the step from one polyline to the next
-        s = np.empty(len(points))
-        s[0] = 0.0
-        np.cumsum(seg, out=s[1:])
-        start = s[ends - sizes + 1]
-        length = s[ends] - start
-        t = (start[:, None] + where(fractions, length[:, None])).ravel()
-    return points_at(t, s, points).reshape(len(lines), n, 2)
+    """Samples of many polylines at arc positions ``where(k / n, length)``, k < n, laid
+    end to end (:mod:`core.ragged`: the same to the bit as for each line alone)."""
+    sizes = np.fromiter(map(len, lines), dtype=np.intp, count=len(lines))
+    first = starts(sizes)
+    last = first + sizes - 1
+    points = lines[0] if len(lines) == 1 else np.concatenate(lines)
+    s = arc_lengths(points, first, last)
+    t = where(_fractions(n), s[last][:, None]).ravel()
+    which = np.repeat(np.arange(len(lines)), n)
+    return Polylines.of_flat(s, points, first, last).at(which, t).reshape(len(lines), n, 2)
 
 
 @lru_cache(maxsize=8)

@@ -1,0 +1,56 @@
+"""Many polylines at once give, to the bit, what each gives alone."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from core import geometry
+from core.fourier import curve_descriptors, fourier_descriptors
+from core.ragged import Polylines, arc_lengths, starts
+
+
+def _polylines(seed: int) -> list[np.ndarray]:
+    rng = np.random.default_rng(seed)
+    lines = [np.cumsum(rng.normal(0, 10.0 ** rng.integers(-4, 0), (k, 2)), axis=0) + rng.random()
+             for k in rng.integers(2, 60, 40)]
+    lines[3] = np.repeat(lines[3][:3], 2, axis=0)  # repeated points: zero-length steps
+    lines.append(np.zeros((2, 2)))  # no length at all
+    lines.append(rng.random((500, 2)))  # one much longer than the rest
+    return lines
+
+
+def test_arc_lengths_of_many_are_each_ones_own():
+    lines = _polylines(0)
+    sizes = np.array([len(p) for p in lines])
+    first = starts(sizes)
+    together = arc_lengths(np.concatenate(lines), first, first + sizes - 1)
+    np.testing.assert_array_equal(together, np.concatenate([geometry.arc_lengths(p)
+                                                            for p in lines]))
+
+
+def test_sampling_many_is_np_interp_of_each():
+    lines = _polylines(1)
+    arcs = [geometry.arc_lengths(p) for p in lines]
+    lines_ = Polylines.of(arcs, lines)
+    rng = np.random.default_rng(2)
+    which = np.sort(rng.integers(0, len(lines), 5000))  # grouped by polyline
+    # inside, outside, and exactly on the points of each polyline
+    t = np.array([rng.uniform(-0.1, 1.1) * arcs[k][-1] for k in which])
+    t[::3] = [arcs[k][rng.integers(len(arcs[k]))] for k in which[::3]]
+    got = lines_.at(which, t)
+    for k in range(len(lines)):
+        mine = which == k
+        want = np.c_[np.interp(t[mine], arcs[k], lines[k][:, 0]),
+                     np.interp(t[mine], arcs[k], lines[k][:, 1])]
+        np.testing.assert_array_equal(got[mine], want)
+        index = lines_.index(which[mine], t[mine]) - lines_.first[k]
+        np.testing.assert_array_equal(
+            index, np.minimum(np.searchsorted(arcs[k], t[mine]), len(arcs[k]) - 1))
+
+
+def test_descriptors_of_many_are_each_ones_own():
+    lines = _polylines(3)
+    for describe in (fourier_descriptors, curve_descriptors):
+        together = describe(lines)
+        for line, row in zip(lines, together):
+            np.testing.assert_array_equal(row, describe([line])[0])
