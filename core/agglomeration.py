@@ -15,13 +15,15 @@ two patches, a free curve, the two curves a merged one replaces) must lie within
 alpha * D of what stays. The Fourier distance is blind to scale, so without this guard tiny
 faces would merge across real lines and erase them.
 
-The queue holds (cost, order, kind, a, b, fresh) entries. Merged primitives get new ids, so
-an entry whose primitive has gone is skipped. When a patch grows or two curves merge, the
-pairs they had are pushed again for the new primitive, keyed by their parents' cheapest
-known cost but marked stale (none if every parent pair was invalid, costed at once if no
-parent pair was ever costed); a stale entry reaching the
-top is re-costed and pushed back, and only fresh costs are merged or end the run. The run
-is deterministic and eps-independent up to its stop (the first fresh cost not below
+The queue holds (cost, rank, order, kind, a, b, fresh) entries: at equal cost (exact ties
+are common: absorbing a sliver of no area costs 0) free curves go into patches first, then
+curves merge, then patches, as a patch merge makes a new patch whose pairs all come up
+again. Merged primitives get new ids, so an entry whose primitive has gone is skipped.
+When a patch grows or two curves merge, the pairs they had are pushed again for the new
+primitive, keyed by their parents' cheapest known cost but marked stale (none if every
+parent pair was invalid, costed at once if no parent pair was ever costed); a stale entry
+reaching the top is re-costed and pushed back, and only fresh costs are merged or end the
+run. The run is deterministic and eps-independent up to its stop (the first fresh cost not below
 epsilon: so epsilon = 0 merges nothing), and the history of one run with epsilon replays,
 cut at the first cost not below epsilon2, exactly to the run with epsilon2.
 """
@@ -55,6 +57,8 @@ INF = math.inf
 #: stale pairs with a patch (patch-patch, curve-patch) are keyed by this fraction of the
 #: estimate their parents' costs give
 PP_ESTIMATE = 0.7
+#: at equal cost, the kind of merge made first
+TIE_RANK = {"CP": 0, "CC": 1, "PP": 2}
 #: shapes described together when the queue is first filled (a batch of 256 rings takes
 #: about 1 MB of samples)
 COST_BATCH = 256
@@ -246,7 +250,7 @@ class Agglomerator:
     # -- the queue ---------------------------------------------------------------------------
     def _push(self, cost: float, kind: str, a: int, b: int, fresh: bool) -> None:
         if cost < INF:
-            heapq.heappush(self.heap, (cost, self.order, kind, a, b, fresh))
+            heapq.heappush(self.heap, (cost, TIE_RANK[kind], self.order, kind, a, b, fresh))
             self.order += 1
 
     def _offer(self, kind: str, a: int, b: int, parents: list[tuple],
@@ -380,9 +384,9 @@ class Agglomerator:
 
     def _compact(self) -> None:
         """Drop queue entries of merged-away primitives once they are most of the queue;
-        the order of the rest is kept (it is fixed by their (cost, order) keys)."""
+        the order of the rest is kept (it is fixed by their (cost, rank, order) keys)."""
         if len(self.heap) > 2 * self._compacted_size:
-            self.heap = [e for e in self.heap if self._alive(e[2], e[3], e[4])]
+            self.heap = [e for e in self.heap if self._alive(*e[3:6])]
             heapq.heapify(self.heap)
             self.merged = {k: v for k, v in self.merged.items() if self._alive("CC", *k)}
             self.precosted = {k: v for k, v in self.precosted.items() if self._alive("CC", *k)}
@@ -398,7 +402,7 @@ class Agglomerator:
         self._initial_pairs()
         eps = self.params.epsilon
         while self.heap and not self._target_reached():
-            cost, _, kind, a, b, fresh = heapq.heappop(self.heap)
+            cost, _, _, kind, a, b, fresh = heapq.heappop(self.heap)
             if not self._alive(kind, a, b):
                 continue
             if not fresh:

@@ -14,6 +14,7 @@ the polylines before).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -58,7 +59,7 @@ def arc_lengths(points: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.n
     return np.cumsum(rows, axis=1)[which, col]
 
 
-@dataclass
+@dataclass(eq=False)
 class Polylines:
     """Polylines with their arc lengths, the points of all in one array."""
 
@@ -83,28 +84,61 @@ class Polylines:
         return cls(s, np.ascontiguousarray(points[:, 0]), np.ascontiguousarray(points[:, 1]),
                    first, last)
 
-    def _runs(self, which: np.ndarray) -> zip:
-        """Per polyline: where its queries (``which`` grouped by polyline) and its points
-        start and end."""
-        bounds = np.searchsorted(which, np.arange(len(self.first) + 1)).tolist()
-        return zip(bounds[:-1], bounds[1:], self.first.tolist(), (self.last + 1).tolist())
+    @cached_property
+    def _axis(self) -> tuple[np.ndarray, np.ndarray]:
+        """The arc lengths shifted onto one axis where each polyline lies one unit past the
+        one before (increasing over all), and each polyline's shift."""
+        lo, hi = self.s[self.first], self.s[self.last]
+        shift = np.zeros(len(lo))
+        np.cumsum((hi - lo + 1.0)[:-1], out=shift[1:])
+        shift -= lo
+        return self.s + np.repeat(shift, self.last - self.first + 1), shift
+
+    def _search(self, which: np.ndarray, t: np.ndarray, side: str) -> np.ndarray:
+        """np.searchsorted of each t[i] in the arc lengths of polyline which[i], as an
+        index into all (clipped to that polyline): searched on the shifted axis, then made
+        exact on its own arc lengths (the shift may round t across a vertex)."""
+        axis, shift = self._axis
+        s, first, last = self.s, self.first[which], self.last[which]
+        j = np.searchsorted(axis, t + shift[which], side=side)
+        j = np.minimum(np.maximum(j, first), last + 1)
+        while True:  # j: the first point past t ("right") or at or past it ("left")
+            before = s[np.maximum(j - 1, first)]
+            at_j = s[np.minimum(j, last)]
+            past = (before > t) if side == "right" else (before >= t)
+            short = (at_j <= t) if side == "right" else (at_j < t)
+            back = (j > first) & past
+            on = (j <= last) & short
+            if not (back.any() or on.any()):
+                return j
+            j = j - back + on
 
     def at(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Polyline ``which[i]`` (grouped by polyline) at its arc length ``t[i]``, held at
-        its ends: ``np.interp`` on that polyline alone."""
+        its ends: ``np.interp`` on that polyline alone, to the bit."""
         out = np.empty((len(t), 2))
         s, x, y = self.s, self.x, self.y
-        for a, b, lo, hi in self._runs(which):
-            if a < b:
-                out[a:b, 0] = np.interp(t[a:b], s[lo:hi], x[lo:hi])
-                out[a:b, 1] = np.interp(t[a:b], s[lo:hi], y[lo:hi])
+        if len(self.first) == 1 or len(t) > 64 * len(self.first):  # np.interp on each
+            bounds = np.searchsorted(which, np.arange(len(self.first) + 1)).tolist()
+            for a, b, lo, hi in zip(bounds[:-1], bounds[1:], self.first.tolist(),
+                                    (self.last + 1).tolist()):
+                if a < b:
+                    out[a:b, 0] = np.interp(t[a:b], s[lo:hi], x[lo:hi])
+                    out[a:b, 1] = np.interp(t[a:b], s[lo:hi], y[lo:hi])
+            return out
+        # few points on each: all segments found at once, and np.interp's arithmetic
+        first, last = self.first[which], self.last[which]
+        t = np.minimum(np.maximum(t, s[first]), s[last])
+        j = self._search(which, t, "right") - 1
+        nxt = np.minimum(j + 1, last)
+        held = (j == last) | (s[j] == t)  # np.interp gives the point itself there
+        ds = s[nxt] - s[j]
+        ds[held] = 1.0
+        for k, c in enumerate((x, y)):
+            out[:, k] = np.where(held, c[j], (c[nxt] - c[j]) / ds * (t - s[j]) + c[j])
         return out
 
     def index(self, which: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Index (into the points of all) of the first point of polyline ``which[i]``
         (grouped by polyline) at or past arc length ``t[i]``, its last point if none is."""
-        out = np.empty(len(t), dtype=np.intp)
-        for a, b, lo, hi in self._runs(which):
-            if a < b:
-                out[a:b] = np.minimum(np.searchsorted(self.s[lo:hi], t[a:b]), hi - lo - 1) + lo
-        return out
+        return np.minimum(self._search(which, t, "left"), self.last[which])

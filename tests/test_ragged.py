@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from core import geometry
 from core.fourier import curve_descriptors, fourier_descriptors
@@ -28,12 +29,13 @@ def test_arc_lengths_of_many_are_each_ones_own():
                                                             for p in lines]))
 
 
-def test_sampling_many_is_np_interp_of_each():
+@pytest.mark.parametrize("queries", [300, 5000])  # few on each polyline, and many
+def test_sampling_many_is_np_interp_of_each(queries):
     lines = _polylines(1)
     arcs = [geometry.arc_lengths(p) for p in lines]
     lines_ = Polylines.of(arcs, lines)
     rng = np.random.default_rng(2)
-    which = np.sort(rng.integers(0, len(lines), 5000))  # grouped by polyline
+    which = np.sort(rng.integers(0, len(lines), queries))  # grouped by polyline
     # inside, outside, and exactly on the points of each polyline
     t = np.array([rng.uniform(-0.1, 1.1) * arcs[k][-1] for k in which])
     t[::3] = [arcs[k][rng.integers(len(arcs[k]))] for k in which[::3]]
