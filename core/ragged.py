@@ -6,9 +6,11 @@ outweighs the arithmetic; held in one array, most steps are a few calls for all 
 Every result here is bitwise what the same function gives for each polyline alone, however
 the polylines are grouped: the merge loop groups them by what it happens to have pending,
 and ``result.at(epsilon)`` must equal a fresh run exactly. So arc lengths are summed within
-each polyline (never carried over from the one before), and sampling is ``np.interp`` on
-each polyline's own slice (laid end to end on one shifted axis, rounding would depend on
-the polylines before).
+each polyline (never carried over from the one before), and a polyline is sampled as
+``np.interp`` samples it alone: on its own slice, or, where each polyline has few samples,
+with the segments found on one axis where the polylines lie end to end, then checked on
+their own arc lengths (shifted, they round differently) and interpolated by the same
+arithmetic.
 """
 
 from __future__ import annotations
