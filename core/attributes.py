@@ -41,6 +41,8 @@ class NearestInk:
                                         [len(p) - 1 for p in unit_points])
         self.tree = shapely.STRtree(self.segments)
         self.values = {name: self._stack(name) for name in ("width", "pressure")}
+        # what each output polyline took, by content: a slider's replays share most strokes
+        self._taken: dict[bytes, tuple] = {}
 
     def _stack(self, name: str) -> np.ndarray | None:
         arrays = [getattr(st, name) for st in self.strokes]
@@ -64,10 +66,18 @@ class NearestInk:
     def transfer(self, strokes: list[np.ndarray]) -> list[tuple]:
         """For each polyline: width and pressure per point, style, ids of the input strokes.
 
-        One nearest-neighbour query serves all polylines at once.
+        One nearest-neighbour query serves all polylines not seen before at once.
         """
-        if not strokes:
-            return []
+        keys = [p.tobytes() for p in strokes]
+        todo = list({key: p for key, p in zip(keys, strokes) if key not in self._taken}.items())
+        if todo:
+            self._taken.update(zip([key for key, _ in todo],
+                                   self._transfer([p for _, p in todo])))
+        # the per-point arrays copied: the memo's own are not handed out to be changed
+        return [tuple(x.copy() if isinstance(x, np.ndarray) else x for x in self._taken[key])
+                for key in keys]
+
+    def _transfer(self, strokes: list[np.ndarray]) -> list[tuple]:
         counts = [len(p) for p in strokes]
         geoms = shapely.points(np.concatenate(strokes))
         segment = self._nearest(geoms)

@@ -48,17 +48,40 @@ def arc_lengths(points: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.n
     if len(sizes) == 1:
         step[0] = 0.0
         return np.cumsum(step)
-    if len(sizes) * int(sizes.max()) > 4 * len(points):  # rows mostly padding: one by one
-        return np.concatenate([np.cumsum(np.append(0.0, step[a + 1:b + 1]))
-                               for a, b in zip(first.tolist(), last.tolist())])
-    # one row per polyline, padded with zeros: a running sum along each row adds the same
-    # numbers in the same order as for the polyline alone
+    if len(sizes) * int(sizes.max()) <= 4 * len(points):
+        return _running_sums(step, first, sizes)[0]
+    # rows of very different lengths: padded in groups within a factor of two of each other
+    out = np.empty(len(points))
+    group = np.frexp(sizes)[1]
+    for g in np.unique(group).tolist():
+        ks = np.flatnonzero(group == g)
+        values, at = _running_sums(step, first[ks], sizes[ks])
+        out[at] = values
+    return out
+
+
+def _running_sums(step: np.ndarray, first: np.ndarray, sizes: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """The running sum of ``step`` along each polyline (from 0 at its first point), and
+    the indices of its points: one row per polyline, padded with zeros, so that the sum
+    along a row adds the same numbers in the same order as for the polyline alone."""
     which = np.repeat(np.arange(len(sizes)), sizes)
-    col = np.arange(len(points)) - first[which]
+    col = np.arange(len(which)) - starts(sizes)[which]
+    at = first[which] + col
     rows = np.zeros((len(sizes), int(sizes.max())))
-    rows[which, col] = step
+    rows[which, col] = step[at]
     rows[:, 0] = 0.0
-    return np.cumsum(rows, axis=1)[which, col]
+    return np.cumsum(rows, axis=1)[which, col], at
+
+
+def total_lengths(polylines: list[np.ndarray]) -> np.ndarray:
+    """The length of each polyline: ``core.geometry.arc_lengths(p)[-1]`` of each, to the bit."""
+    if not polylines:
+        return np.empty(0)
+    sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+    first = starts(sizes)
+    last = first + sizes - 1
+    return arc_lengths(np.concatenate(polylines), first, last)[last]
 
 
 @dataclass(eq=False)

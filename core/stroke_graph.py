@@ -12,6 +12,7 @@ import numpy as np
 
 from .components import cluster_labels
 from .geometry import arc_lengths
+from .ragged import total_lengths
 
 
 @dataclass
@@ -32,7 +33,7 @@ class StrokeGraph:
         return np.bincount(self.ends.ravel(), minlength=len(self.nodes))
 
     def lengths(self) -> np.ndarray:
-        return np.array([arc_lengths(e.points)[-1] for e in self.edges])
+        return total_lengths([e.points for e in self.edges])
 
 
 def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:

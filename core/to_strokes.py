@@ -34,6 +34,7 @@ from .fourier import curve_descriptors, fd_distance
 from .geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
 from .noding import GRID
 from .params import SimplifyParams
+from .ragged import total_lengths
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_direction, rebuild
 
 
@@ -57,14 +58,16 @@ class StrokeMemo:
     # side-by-side pairs (points and weights of both): their merged edge and its
     # descriptor, or None when they do not pair
     pairs: dict[tuple, tuple[np.ndarray, np.ndarray] | None] = field(default_factory=dict)
+    tips: dict[bytes, list[int]] = field(default_factory=dict)  # where chains are cut
 
 
 def linework(state: ComplexState) -> list[Edge]:
     """The alive curves, each with the perimeter of the smallest patch it bounds."""
-    lengths = [arc_lengths(c)[-1] for c in state.curves]
+    alive = state.alive_curves()
+    lengths = dict(zip(alive, total_lengths([state.curves[c] for c in alive]).tolist()))
     perim = {p: sum(lengths[c] for c in state.patch_curves[p]) for p in state.alive_patches()}
     edges = []
-    for c in state.alive_curves():
+    for c in alive:
         free = state.is_free(c)
         sides = [perim[p] for p in state.curve_sides[c] if p >= 0 and not free]
         edges.append(Edge(state.curves[c], min(sides, default=np.inf), free))
@@ -349,17 +352,20 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
 TIP_ANGLE = 100.0
 
 
-def split_at_tips(chains: list[Edge], d_eps: float) -> list[Edge]:
+def split_at_tips(chains: list[Edge], d_eps: float, memo: StrokeMemo) -> list[Edge]:
     """Cut chains at hairpin turns, and loops without one in two halves, so that the two
     long sides of a slender patch face each other as two edges."""
     out = []
     for e in chains:
         pts = e.points
-        cuts = corner_indices(pts, TIP_ANGLE, d_eps)
-        if e.closed and not cuts:
-            far = int(np.argmax(np.hypot(*(pts - pts[0]).T)))
-            cuts = [far] if 0 < far < len(pts) - 1 else []
-        bounds = [0, *cuts, len(pts) - 1]
+        key = pts.tobytes() + (b"c" if e.closed else b"o")
+        if key not in memo.tips:
+            cuts = corner_indices(pts, TIP_ANGLE, d_eps)
+            if e.closed and not cuts:
+                far = int(np.argmax(np.hypot(*(pts - pts[0]).T)))
+                cuts = [far] if 0 < far < len(pts) - 1 else []
+            memo.tips[key] = cuts
+        bounds = [0, *memo.tips[key], len(pts) - 1]
         out += [Edge(pts[i:j + 1], e.perimeter, e.free) for i, j in zip(bounds[:-1], bounds[1:])
                 if j > i]
     return out
@@ -376,7 +382,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     snap = d_eps / 2
     fits = memo.fits
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
-    edges = merge_bi_edges(split_at_tips(chains, d_eps), params, memo)
+    edges = merge_bi_edges(split_at_tips(chains, d_eps, memo), params, memo)
     graph = build_graph(renode(edges), snap)
     graph = trim_spurs(graph, d_eps)
     graph = contract_short_edges(graph, d_eps, params.beta)

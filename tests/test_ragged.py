@@ -7,7 +7,7 @@ import pytest
 
 from core import geometry
 from core.fourier import curve_descriptors, fourier_descriptors
-from core.ragged import Polylines, arc_lengths, starts
+from core.ragged import Polylines, arc_lengths, starts, total_lengths
 
 
 def _polylines(seed: int) -> list[np.ndarray]:
@@ -20,13 +20,15 @@ def _polylines(seed: int) -> list[np.ndarray]:
     return lines
 
 
-def test_arc_lengths_of_many_are_each_ones_own():
-    lines = _polylines(0)
+@pytest.mark.parametrize("long_one", [True, False])  # rows padded in groups, or in one
+def test_arc_lengths_of_many_are_each_ones_own(long_one):
+    lines = _polylines(0)[:None if long_one else -1]
     sizes = np.array([len(p) for p in lines])
     first = starts(sizes)
     together = arc_lengths(np.concatenate(lines), first, first + sizes - 1)
-    np.testing.assert_array_equal(together, np.concatenate([geometry.arc_lengths(p)
-                                                            for p in lines]))
+    alone = [geometry.arc_lengths(p) for p in lines]
+    np.testing.assert_array_equal(together, np.concatenate(alone))
+    np.testing.assert_array_equal(total_lengths(lines), [s[-1] for s in alone])
 
 
 @pytest.mark.parametrize("queries", [300, 5000])  # few on each polyline, and many
