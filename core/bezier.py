@@ -8,11 +8,11 @@ Curves are (3k + 1, 2) arrays of control points: p0, c1, c2, p1, c1, c2, p2, ...
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .geometry import arc_lengths
+from .ragged import arc_lengths as ragged_arc_lengths
+from .ragged import split, starts
 
 
 def _basis(t: np.ndarray) -> np.ndarray:
@@ -69,67 +69,154 @@ def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) ->
     return corners
 
 
-def _fit_cubic(pts: np.ndarray, basis: np.ndarray, t0: np.ndarray, t1: np.ndarray,
-               arc: float) -> np.ndarray:
-    """Least-squares cubic with fixed ends and fixed end tangent directions, the points
-    taken at parameters whose Bernstein ``basis`` is given; ``arc`` is their path length."""
-    p0, p3 = pts[0], pts[-1]
+#: a piece is split at most this deep (2 ** 25 cubics: never reached in practice)
+MAX_DEPTH = 24
+
+
+def _segment_sum(values: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """The sum over each piece (contiguous runs starting at ``first``): the same for a
+    piece whatever pieces are summed beside it."""
+    return np.add.reduceat(values, first)
+
+
+def _fit_cubics(pts: np.ndarray, basis: np.ndarray, which: np.ndarray, first: np.ndarray,
+                last: np.ndarray, t0: np.ndarray, t1: np.ndarray, arc: np.ndarray
+                ) -> np.ndarray:
+    """Least-squares cubics (m, 4, 2) with fixed ends and fixed end tangent directions,
+    one per piece, the points taken at parameters whose Bernstein ``basis`` is given;
+    ``arc`` is each piece's path length."""
+    p0, p3 = pts[first], pts[last]
     b1, b2 = basis[:, 1], basis[:, 2]
-    rest = pts - np.outer(basis[:, 0] + b1, p0) - np.outer(b2 + basis[:, 3], p3)
-    c00, c01, c11 = (b1 @ b1) * (t0 @ t0), (b1 @ b2) * (t0 @ t1), (b2 @ b2) * (t1 @ t1)
-    x0, x1 = b1 @ (rest @ t0), b2 @ (rest @ t1)
+    rest = pts - (basis[:, 0] + b1)[:, None] * p0[which] - (b2 + basis[:, 3])[:, None] * p3[which]
+    t0w, t1w = t0[which], t1[which]
+    c00 = _segment_sum(b1 * b1, first) * (t0 * t0).sum(axis=1)
+    c01 = _segment_sum(b1 * b2, first) * (t0 * t1).sum(axis=1)
+    c11 = _segment_sum(b2 * b2, first) * (t1 * t1).sum(axis=1)
+    x0 = _segment_sum(b1 * (rest * t0w).sum(axis=1), first)
+    x1 = _segment_sum(b2 * (rest * t1w).sum(axis=1), first)
     det = c00 * c11 - c01 * c01
-    chord = math.hypot(p3[0] - p0[0], p3[1] - p0[1])
-    alpha1 = alpha2 = 0.0
-    if abs(det) > 1e-12 * max(c00 * c11, 1e-300):
-        alpha1, alpha2 = (x0 * c11 - x1 * c01) / det, (c00 * x1 - c01 * x0) / det
-    if min(alpha1, alpha2) < 1e-6 * chord or max(alpha1, alpha2) > arc:
-        # Wu/Barsky: a degenerate solve, or handles longer than the whole piece (which
-        # would loop far away between the samples): fall back to a third of the chord
-        alpha1 = alpha2 = chord / 3
-    return np.array([p0, p0 + alpha1 * t0, p3 + alpha2 * t1, p3])
+    chord = np.hypot(p3[:, 0] - p0[:, 0], p3[:, 1] - p0[:, 1])
+    solved = np.abs(det) > 1e-12 * np.maximum(c00 * c11, 1e-300)
+    safe = np.where(solved, det, 1.0)
+    alpha1 = np.where(solved, (x0 * c11 - x1 * c01) / safe, 0.0)
+    alpha2 = np.where(solved, (c00 * x1 - c01 * x0) / safe, 0.0)
+    # Wu/Barsky: a degenerate solve, or handles longer than the whole piece (which would
+    # loop far away between the samples): fall back to a third of the chord
+    bad = (np.minimum(alpha1, alpha2) < 1e-6 * chord) | (np.maximum(alpha1, alpha2) > arc)
+    alpha1 = np.where(bad, chord / 3, alpha1)
+    alpha2 = np.where(bad, chord / 3, alpha2)
+    return np.stack([p0, p0 + alpha1[:, None] * t0, p3 + alpha2[:, None] * t1, p3], axis=1)
 
 
-def _reparameterise(ctrl: np.ndarray, diff: np.ndarray, u: np.ndarray) -> np.ndarray:
+def _on_curves(ctrl: np.ndarray, basis: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """Each point's cubic (``ctrl[which]``) at its parameter, given their ``basis``."""
+    c = ctrl[which]
+    return (basis[:, :1] * c[:, 0] + basis[:, 1:2] * c[:, 1] + basis[:, 2:3] * c[:, 2]
+            + basis[:, 3:] * c[:, 3])
+
+
+def _reparameterise(ctrl: np.ndarray, diff: np.ndarray, u: np.ndarray, which: np.ndarray
+                    ) -> np.ndarray:
     """One Newton-Raphson step towards the nearest curve parameter of each point, given
-    ``diff``, the curve at ``u`` minus the points."""
-    d1 = 3 * (ctrl[1:] - ctrl[:-1])
-    d2 = 2 * (d1[1:] - d1[:-1])
-    r = 1 - u
-    q1 = np.outer(r * r, d1[0]) + np.outer(2 * r * u, d1[1]) + np.outer(u * u, d1[2])
-    q2 = np.outer(r, d2[0]) + np.outer(u, d2[1])
+    ``diff``, its cubic (``ctrl[which]``) at ``u`` minus the point."""
+    d1 = 3 * (ctrl[:, 1:] - ctrl[:, :-1])
+    d2 = 2 * (d1[:, 1:] - d1[:, :-1])
+    d1, d2 = d1[which], d2[which]
+    r = (1 - u)[:, None]
+    uu = u[:, None]
+    q1 = r * r * d1[:, 0] + 2 * r * uu * d1[:, 1] + uu * uu * d1[:, 2]
+    q2 = r * d2[:, 0] + uu * d2[:, 1]
     num = (diff * q1).sum(axis=1)
     den = (q1 * q1).sum(axis=1) + (diff * q2).sum(axis=1)
     step = np.divide(num, den, out=np.zeros_like(num), where=np.abs(den) > 1e-12)
     return np.minimum(np.maximum(u - step, 0.0), 1.0)
 
 
-def _fit_piece(pts: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float,
-               depth: int = 0) -> list[np.ndarray]:
-    if len(pts) == 2 or np.hypot(*(pts[-1] - pts[0])) == 0 and len(pts) <= 3:
-        d = np.hypot(*(pts[-1] - pts[0])) / 3
-        return [np.array([pts[0], pts[0] + d * t0, pts[-1] + d * t1, pts[-1]])]
-    s = arc_lengths(pts)
-    u = s / s[-1] if s[-1] > 0 else np.linspace(0, 1, len(pts))
+def _fit_once(pieces: list[np.ndarray], t0: np.ndarray, t1: np.ndarray, tol: float
+              ) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
+    """The least-squares cubic of each piece, then up to four Newton steps on its
+    parameters while it misses a point by more than ``tol``; all pieces at once (each
+    piece's arithmetic is its own: a piece fits the same in any batch).
+
+    Returns the cubics (m, 4, 2), each one's largest miss and its misses at its points."""
+    sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
+    first = starts(sizes)
+    last = first + sizes - 1
+    pts = np.concatenate(pieces)
+    which = np.repeat(np.arange(len(pieces)), sizes)
+    s = ragged_arc_lengths(pts, first, last)
+    arc = s[last]
+    # by arc length, or evenly where a piece has no length
+    u = np.where((arc > 0)[which], s / np.where(arc > 0, arc, 1.0)[which],
+                 (np.arange(len(pts)) - first[which]) / (sizes - 1)[which])
     basis = _basis(u)
-    ctrl = _fit_cubic(pts, basis, t0, t1, float(s[-1]))
+    ctrl = _fit_cubics(pts, basis, which, first, last, t0, t1, arc)
+    trying = np.ones(len(pieces), dtype=bool)
+    err = np.zeros(len(pts))
     for attempt in range(5):  # the fit, then up to four Newton steps on its parameters
-        diff = basis @ ctrl - pts
-        err = np.hypot(diff[:, 0], diff[:, 1])
-        if err.max() <= tol or attempt == 4:
+        diff = _on_curves(ctrl, basis, which) - pts
+        moved = trying[which]  # a piece that stopped keeps its cubic and its misses
+        err = np.where(moved, np.hypot(diff[:, 0], diff[:, 1]), err)
+        worst = np.maximum.reduceat(err, first)
+        trying &= worst > tol
+        if attempt == 4 or not trying.any():
             break
-        u = _reparameterise(ctrl, diff, u)
+        u = np.where(trying[which], _reparameterise(ctrl, diff, u, which), u)
         basis = _basis(u)
-        ctrl = _fit_cubic(pts, basis, t0, t1, float(s[-1]))
-    if err.max() <= tol or depth > 24:
-        return [ctrl]
-    split = int(np.clip(np.argmax(err), 1, len(pts) - 2))
-    centre = _unit(pts[split - 1] - pts[split + 1])
-    if not centre.any():
-        centre = _unit(pts[split - 1] - pts[split])
-    left = _fit_piece(pts[:split + 1], t0, centre, tol, depth + 1)
-    right = _fit_piece(pts[split:], -centre, t1, tol, depth + 1)
-    return left + right
+        ctrl = np.where(trying[:, None, None],
+                        _fit_cubics(pts, basis, which, first, last, t0, t1, arc), ctrl)
+    return ctrl, worst, split(err, sizes)
+
+
+def _fit_pieces(pieces: list[tuple[np.ndarray, np.ndarray, np.ndarray]], tol: float
+                ) -> list[list[np.ndarray]]:
+    """Schneider's fit of each (points, start tangent, end tangent): one cubic if it keeps
+    within ``tol``, else the piece split at its worst point, tangent-continuous there, and
+    each part fitted again; a level of splitting at a time for all pieces."""
+    points = [p for p, _, _ in pieces]
+    t0s = [t for _, t, _ in pieces]
+    t1s = [t for _, _, t in pieces]
+    depth = [0] * len(pieces)
+    result: list[np.ndarray | tuple[int, int] | None] = [None] * len(pieces)
+    frontier = list(range(len(pieces)))
+    while frontier:
+        fit = []
+        for k in frontier:
+            pts = points[k]
+            if len(pts) == 2 or (len(pts) <= 3 and np.hypot(*(pts[-1] - pts[0])) == 0):
+                d = np.hypot(*(pts[-1] - pts[0])) / 3
+                result[k] = np.array([pts[0], pts[0] + d * t0s[k], pts[-1] + d * t1s[k],
+                                      pts[-1]])
+            else:
+                fit.append(k)
+        if not fit:
+            break
+        ctrl, worst, errs = _fit_once([points[k] for k in fit], np.array([t0s[k] for k in fit]),
+                                      np.array([t1s[k] for k in fit]), tol)
+        frontier = []
+        for k, c, w, err in zip(fit, ctrl, worst.tolist(), errs):
+            if w <= tol or depth[k] > MAX_DEPTH:
+                result[k] = c
+                continue
+            pts = points[k]
+            cut = int(np.clip(np.argmax(err), 1, len(pts) - 2))
+            centre = _unit(pts[cut - 1] - pts[cut + 1])
+            if not centre.any():
+                centre = _unit(pts[cut - 1] - pts[cut])
+            left, right = len(points), len(points) + 1
+            points += [pts[:cut + 1], pts[cut:]]
+            t0s += [t0s[k], -centre]
+            t1s += [centre, t1s[k]]
+            depth += [depth[k] + 1] * 2
+            result += [None, None]
+            result[k] = (left, right)
+            frontier += [left, right]
+
+    def cubics(k: int) -> list[np.ndarray]:
+        r = result[k]
+        return [r] if isinstance(r, np.ndarray) else cubics(r[0]) + cubics(r[1])
+
+    return [cubics(k) for k in range(len(pieces))]
 
 
 def _end_tangent(pts: np.ndarray, reach: float) -> np.ndarray:
@@ -146,23 +233,32 @@ def fit_bezier(points: np.ndarray, max_error: float, corner_angle_deg: float = 5
     The polyline is split at corners sharper than ``corner_angle_deg`` (seen over a reach
     of 4 * max_error); each piece is fitted with tangent continuity inside it.
     """
-    pts = np.asarray(points, dtype=float)
-    keep = np.concatenate([[True], np.hypot(*np.diff(pts, axis=0).T) > 0])
-    pts = pts[keep]
-    if len(pts) < 2:
-        raise ValueError("a curve needs two distinct points")
+    return fit_beziers([points], max_error, corner_angle_deg, [closed])[0]
+
+
+def fit_beziers(polylines: list[np.ndarray], max_error: float, corner_angle_deg: float,
+                closed: list[bool]) -> list[np.ndarray]:
+    """:func:`fit_bezier` of each polyline, all fitted together (each the same as alone)."""
     reach = 4 * max_error
-    cuts = [0, *corner_indices(pts, corner_angle_deg, reach), len(pts) - 1]
-    cuts = sorted(set(cuts))
-    pieces: list[np.ndarray] = []
-    for i, j in zip(cuts[:-1], cuts[1:]):
-        seg = pts[i:j + 1]
-        t0 = _end_tangent(seg, reach)
-        t1 = _end_tangent(seg[::-1], reach)
-        if closed and len(cuts) == 2:  # smooth seam: one tangent through the joint
-            seam = _unit(pts[1] - pts[-2])
-            if seam.any():
-                t0, t1 = seam, -seam
-        pieces += _fit_piece(seg, t0, t1, max_error)
-    out = [pieces[0]] + [p[1:] for p in pieces[1:]]
-    return np.concatenate(out)
+    pieces, owner = [], []
+    for k, (points, loop) in enumerate(zip(polylines, closed)):
+        pts = np.asarray(points, dtype=float)
+        keep = np.concatenate([[True], np.hypot(*np.diff(pts, axis=0).T) > 0])
+        pts = pts[keep]
+        if len(pts) < 2:
+            raise ValueError("a curve needs two distinct points")
+        cuts = sorted({0, *corner_indices(pts, corner_angle_deg, reach), len(pts) - 1})
+        for i, j in zip(cuts[:-1], cuts[1:]):
+            seg = pts[i:j + 1]
+            t0 = _end_tangent(seg, reach)
+            t1 = _end_tangent(seg[::-1], reach)
+            if loop and len(cuts) == 2:  # smooth seam: one tangent through the joint
+                seam = _unit(pts[1] - pts[-2])
+                if seam.any():
+                    t0, t1 = seam, -seam
+            pieces.append((seg, t0, t1))
+            owner.append(k)
+    out: list[list[np.ndarray]] = [[] for _ in polylines]
+    for k, cubics in zip(owner, _fit_pieces(pieces, max_error)):
+        out[k] += cubics
+    return [np.concatenate([c[0]] + [p[1:] for p in c[1:]]) for c in out]

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from .bezier import corner_indices, fit_bezier, sample
+from .bezier import corner_indices, fit_beziers, sample
 from .complex_state import ComplexState
 from .components import component_labels
 from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
@@ -386,16 +386,17 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     graph = build_graph(renode(edges), snap)
     graph = trim_spurs(graph, d_eps)
     graph = contract_short_edges(graph, d_eps, params.beta)
-    out = []
+    strokes = []
     for stroke in join_edges(graph, params):
         if arc_lengths(stroke.points)[-1] <= GRID:  # a crumb below the snapping grid
             continue
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
         pts = resample_polyline(stroke.points, d_eps / 4)
-        key = pts.tobytes() + (b"c" if stroke.closed else b"o")
-        if key not in fits:
-            fits[key] = fit_bezier(pts, params.fit_error * d_eps, params.corner_angle,
-                                   closed=stroke.closed)
-        out.append(FittedStroke(sample(fits[key], 12), fits[key], stroke.closed))
-    return out
+        strokes.append((pts.tobytes() + (b"c" if stroke.closed else b"o"), pts, stroke.closed))
+    todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
+    if todo:  # fitted together
+        fits.update(zip([key for key, _ in todo], fit_beziers(
+            [pts for _, (pts, _) in todo], params.fit_error * d_eps, params.corner_angle,
+            [closed for _, (_, closed) in todo])))
+    return [FittedStroke(sample(fits[key], 12), fits[key], closed) for key, _, closed in strokes]

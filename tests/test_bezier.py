@@ -7,7 +7,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from core.bezier import corner_indices, fit_bezier, sample
+from core.bezier import corner_indices, fit_bezier, fit_beziers, sample
 from core.geometry import resample_polyline
 
 
@@ -69,3 +69,26 @@ def test_a_closed_loop_shorter_than_the_spacing_stays_a_loop():
     assert len(pts) >= 4 and np.hypot(*np.diff(pts, axis=0).T).min() > 0
     ctrl = fit_bezier(pts, 1e-4, closed=True)
     np.testing.assert_allclose(ctrl[0], ctrl[-1], atol=1e-12)
+
+
+def test_polylines_fitted_together_are_each_fitted_alone():
+    """The output stage fits every new stroke in one batch (a level of splitting at a time
+    for all): each fit is, to the bit, its fit alone, so replays equal fresh runs."""
+    rng = np.random.default_rng(5)
+    polylines, closed = [], []
+    for k in range(30):
+        n = int(rng.integers(2, 80))
+        t = np.linspace(0, rng.uniform(1, 6), n)
+        wiggle = rng.uniform(0, 0.3) * np.sin(rng.uniform(1, 9) * t)
+        pts = np.stack([t, wiggle + rng.normal(0, 0.01, n)], axis=1)
+        if k % 7 == 0 and n > 4:  # a loop
+            pts = np.concatenate([pts, pts[:1]])
+        polylines.append(pts)
+        closed.append(k % 7 == 0 and n > 4)
+    polylines.append(np.array([[0, 0], [1, 1]], float))  # two points: no fit to make
+    closed.append(False)
+    together = fit_beziers(polylines, 0.01, 50.0, closed)
+    alone = [fit_bezier(p, 0.01, 50.0, closed=c) for p, c in zip(polylines, closed)]
+    assert sum(len(c) > 4 for c in alone) > 10  # most are split into several cubics
+    for a, b in zip(together, alone):
+        assert a.tobytes() == b.tobytes()
