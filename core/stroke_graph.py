@@ -11,8 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .components import cluster_labels
-from .geometry import arc_lengths
-from .ragged import total_lengths
+from .ragged import Polylines, arc_lengths, starts, total_lengths
 
 
 @dataclass
@@ -65,10 +64,16 @@ def rebuild(graph: StrokeGraph, keep: np.ndarray) -> StrokeGraph:
     return StrokeGraph(edges, inverse.reshape(-1, 2), graph.nodes[used])
 
 
-def end_direction(points: np.ndarray, reach: float) -> np.ndarray:
-    """Unit direction leaving the polyline's first point, looking ``reach`` along it."""
-    s = arc_lengths(points)
-    k = int(np.clip(np.searchsorted(s, reach), 1, len(points) - 1))
-    d = points[k] - points[0]
-    n = np.hypot(*d)
-    return d / n if n > 0 else d
+def end_directions(polylines: list[np.ndarray], reach: float) -> np.ndarray:
+    """Unit direction leaving each end of each polyline, looking ``reach`` along it:
+    rows 2k (from the first point of polyline k) and 2k + 1 (from its last)."""
+    walks = [w for p in polylines for w in (p, p[::-1])]
+    sizes = np.fromiter(map(len, walks), dtype=np.intp, count=len(walks))
+    first = starts(sizes)
+    last = first + sizes - 1
+    points = np.concatenate(walks)
+    lines = Polylines.of_flat(arc_lengths(points, first, last), points, first, last)
+    k = np.maximum(lines.index(np.arange(len(walks)), np.full(len(walks), reach)), first + 1)
+    d = points[k] - points[first]
+    n = np.hypot(d[:, 0], d[:, 1])
+    return d / np.where(n > 0, n, 1.0)[:, None]

@@ -35,7 +35,7 @@ from .geometry import arc_lengths, lines_from, resample_polyline, split_coordina
 from .noding import GRID
 from .params import SimplifyParams
 from .ragged import total_lengths
-from .stroke_graph import Edge, StrokeGraph, build_graph, end_direction, rebuild
+from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
 
 @dataclass
@@ -52,7 +52,8 @@ class StrokeMemo:
     """What the output stage worked out, by content: results replayed at other epsilons (a
     slider) pass through states that share most edges and most pairs of edges."""
 
-    fits: dict[bytes, np.ndarray] = field(default_factory=dict)  # Bezier fits by polyline
+    # Bezier fits by polyline: the control points and the polyline sampled from them
+    fits: dict[bytes, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     curves: dict[bytes, SampledCurve] = field(default_factory=dict)
     descriptors: dict[bytes, np.ndarray] = field(default_factory=dict)
     # side-by-side pairs (points and weights of both): their merged edge and its
@@ -291,6 +292,7 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
     reach = 2 * params.alpha
     link = np.full(2 * n_edges, -1)  # end 2k (start of edge k) / 2k+1 (its end) -> partner
     cos_join = np.cos(np.radians(params.join_angle))
+    directions = end_directions([e.points for e in graph.edges], reach) if n_edges else None
     by_node: dict[int, list[int]] = {}
     for k in range(n_edges):
         for side in (0, 1):
@@ -298,8 +300,7 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
     for _node, ends in sorted(by_node.items()):
         if len(ends) < 2 or (len(ends) > 2 and not at_junctions):
             continue
-        dirs = [end_direction(graph.edges[e >> 1].points[:: 1 if e % 2 == 0 else -1], reach)
-                for e in ends]
+        dirs = [directions[e] for e in ends]
         if len(ends) == 2:
             if ends[0] >> 1 != ends[1] >> 1:
                 link[ends[0]], link[ends[1]] = ends[1], ends[0]
@@ -396,7 +397,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
         strokes.append((pts.tobytes() + (b"c" if stroke.closed else b"o"), pts, stroke.closed))
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
     if todo:  # fitted together
-        fits.update(zip([key for key, _ in todo], fit_beziers(
-            [pts for _, (pts, _) in todo], params.fit_error * d_eps, params.corner_angle,
-            [closed for _, (_, closed) in todo])))
-    return [FittedStroke(sample(fits[key], 12), fits[key], closed) for key, _, closed in strokes]
+        made = fit_beziers([pts for _, (pts, _) in todo], params.fit_error * d_eps,
+                           params.corner_angle, [closed for _, (_, closed) in todo])
+        fits.update((key, (bezier, sample(bezier, 12))) for (key, _), bezier in zip(todo, made))
+    return [FittedStroke(fits[key][1], fits[key][0], closed) for key, _, closed in strokes]

@@ -8,6 +8,7 @@ import pytest
 from core import geometry
 from core.fourier import curve_descriptors, fourier_descriptors
 from core.ragged import Polylines, arc_lengths, starts, total_lengths
+from core.stroke_graph import end_directions
 
 
 def _polylines(seed: int) -> list[np.ndarray]:
@@ -58,3 +59,20 @@ def test_descriptors_of_many_are_each_ones_own():
         together = describe(lines)
         for line, row in zip(lines, together):
             np.testing.assert_array_equal(row, describe([line])[0])
+
+
+def _end_direction(points: np.ndarray, reach: float) -> np.ndarray:
+    """Unit direction leaving the first point, looking ``reach`` along: one at a time."""
+    s = geometry.arc_lengths(points)
+    k = int(np.clip(np.searchsorted(s, reach), 1, len(points) - 1))
+    d = points[k] - points[0]
+    n = np.hypot(*d)
+    return d / n if n > 0 else d
+
+
+@pytest.mark.parametrize("reach", [1e-3, 0.05, 10.0])  # before the second point, within, past
+def test_end_directions_of_many_are_each_ones_own(reach):
+    lines = _polylines(3)
+    together = end_directions(lines, reach)
+    alone = [_end_direction(w, reach) for p in lines for w in (p, p[::-1])]
+    assert together.tobytes() == np.array(alone).tobytes()
