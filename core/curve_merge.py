@@ -245,9 +245,9 @@ def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledC
             np.arange(len(merged)), [len(m) for m in merged]))
     geoms = [g for a, b in parents for g in (a.point_geoms, b.point_geoms)]
     sizes = np.fromiter(map(len, geoms), dtype=np.intp, count=len(geoms))
-    dist = shapely.distance(np.concatenate(geoms), np.repeat(np.repeat(lines, 2), sizes))
-    far = np.maximum.reduceat(dist, starts(sizes)) > d_eps
-    return ~(far[0::2] | far[1::2])
+    near = shapely.dwithin(np.concatenate(geoms), np.repeat(np.repeat(lines, 2), sizes), d_eps)
+    every = np.logical_and.reduceat(near, starts(sizes))
+    return every[0::2] & every[1::2]
 
 
 def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, float]],
@@ -271,7 +271,7 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
         probes = np.concatenate([ordered[k][2].point_geoms[_probe_index(
             len(ordered[k][2].points))] for k in live])
         lines = np.array([ordered[k][0].line for k in live], dtype=object)
-        near = (shapely.distance(probes, np.repeat(lines, 9)) <= d_eps).reshape(-1, 9)
+        near = shapely.dwithin(probes, np.repeat(lines, 9), d_eps).reshape(-1, 9)
         probed = [k for k, hits in zip(live, np.count_nonzero(near, axis=1).tolist())
                   if hits / 9 >= MIN_OVERLAP - 0.2]
         if probed:

@@ -169,5 +169,6 @@ class DistanceGuard:
         cand = [c for c in self.tree.query(shapely.box(*lo, *hi)).tolist() if c in allowed]
         if not cand:
             return False
-        d = shapely.distance(shapely.points(points)[:, None], self.lines[cand][None, :])
-        return bool(d.min(axis=1).max() <= self.d_eps)
+        near = shapely.dwithin(shapely.points(points)[:, None], self.lines[cand][None, :],
+                               self.d_eps)
+        return bool(near.any(axis=1).all())
