@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from itertools import islice
 
 import numpy as np
 import shapely
@@ -144,10 +145,10 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
         return edges
     closeness, beside = _beside(lines, i, j, d_eps)
     order = np.lexsort((j, i, closeness))
-    judged: set[int] = set()  # pairs of current edges judged (and not merged), as keys
+    judged: dict[int, None] = {}  # pairs of current edges judged (and not merged), as keys
     candidates = order[beside[order]]
     for a, b, later in _unjudged(i[candidates], j[candidates], root, judged):
-        judged.add(a * len(root) + b)  # a merge replaces both: the pair never comes up again
+        judged[a * len(root) + b] = None  # a merge replaces both: it never comes up again
         if key(a, b) not in memo.pairs:  # judged with the next few in one batch
             judge([(a, b)] + [p for p in later(LOOK_AHEAD) if key(*p) not in memo.pairs])
         pair = memo.pairs[key(a, b)]
@@ -166,17 +167,19 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
     return [Edge(pts[k], perimeter[k], free[k]) for k in range(len(pts)) if root[k] == k]
 
 
-def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray, judged: set[int],
-              block: int = 4096
+def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray,
+              judged: dict[int, None], block: int = 4096
               ) -> Iterator[tuple[int, int, Callable[[int], list[tuple[int, int]]]]]:
     """The candidate pairs, in order, as pairs of the current edges they have been merged
     into (smaller id first), leaving out those merged into one or judged before; with each,
     a function giving up to k of the pairs that follow it, as they stand then.
 
-    ``root`` and ``judged`` are read as the caller updates them between pairs. A dense
-    sketch has hundreds of thousands of candidates, most of them settled by earlier
-    merges: they are dropped a block at a time with array operations."""
+    ``root`` and ``judged`` (keys in the order judged) are read as the caller updates them
+    between pairs. A dense sketch has millions of candidates, most of them settled by
+    earlier merges: they are dropped a block at a time with array operations (the keys
+    judged so far kept sorted, added to as judged)."""
     size = len(root)
+    done = np.empty(0, dtype=np.int64)  # judged keys, sorted, as of the last block
 
     def current(u: int, v: int) -> tuple[int, int] | None:
         a, b = sorted((int(root[u]), int(root[v])))
@@ -185,10 +188,12 @@ def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray, judged: s
     for start in range(0, len(first), block):
         x, y = first[start:start + block], second[start:start + block]
         a, b = root[x], root[y]
-        lo, hi = np.minimum(a, b), np.maximum(a, b)
-        keep = lo != hi
-        if judged:
-            keep &= ~np.isin(lo * size + hi, np.fromiter(judged, np.int64, len(judged)))
+        keys = np.minimum(a, b).astype(np.int64) * size + np.maximum(a, b)
+        keep = a != b
+        if len(judged) > len(done):
+            done = np.union1d(done, np.fromiter(islice(judged, len(done), None), np.int64))
+        if len(done):
+            keep &= done[np.searchsorted(done, keys).clip(max=len(done) - 1)] != keys
         xs, ys = x[keep].tolist(), y[keep].tolist()
         for k, (u, v) in enumerate(zip(xs, ys)):
             pair = current(u, v)
