@@ -9,6 +9,8 @@ canvas diagonal, mean distance of the output to the ink (px), F-score against th
 ``full_fit.scap`` reference at 1% of the diagonal, and seconds. Then the medians, and time
 against size on synthetic sketches of 100, 1,000 and 10,000 strokes with the fitted
 growth exponent. ``at ms`` is the time of ``result.at(epsilon / 2)``, what a slider costs.
+The machine's pace (a plain Python loop) is printed before and after: seconds mean little
+without it on shared machines, whose pace changes two- or threefold from hour to hour.
 """
 
 from __future__ import annotations
@@ -128,6 +130,20 @@ def scaling(sizes: list[int]) -> None:
     print(f"  growth exponent {slope:.2f} (aim: at most 1.3)")
 
 
+def machine_pace(repeat: int = 3) -> float:
+    """Seconds a plain Python loop of 3,000,000 additions takes here (best of ``repeat``):
+    the same code runs two or three times slower on a busy or shared machine, so times
+    from different machines are compared through this."""
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        total = 0
+        for k in range(3_000_000):
+            total += k
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
@@ -149,6 +165,8 @@ def main() -> int:
     if not files:
         print(f"no sketches found under {args.data}: skipping the real-sketch benchmark")
     rows = {}
+    pace = machine_pace()
+    print(f"machine pace: {pace:.2f} s for a Python loop of 3,000,000 additions")
     head = f"{'sketch':44s} {'in':>5s} {'out':>5s} {'int':>5s} {'out/int':>7s} {'cover':>6s} " \
            f"{'fid px':>6s} {'F':>5s} {'s':>6s} {'at ms':>6s}"
     if files:
@@ -173,6 +191,8 @@ def main() -> int:
               f"(largest {max(r['seconds'] for r in rows.values()):.2f}), "
               f"replay at epsilon/2 {med('at_ms'):.0f} ms")
         print(f"worst coverage {min(r['coverage'] for r in rows.values()):.3f}")
+        after = machine_pace()
+        print(f"machine pace: {after:.2f} s after the sketches ({pace:.2f} s before)")
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     if args.scaling:
