@@ -12,7 +12,7 @@ import numpy as np
 
 from .geometry import arc_lengths
 from .ragged import arc_lengths as ragged_arc_lengths
-from .ragged import split, starts
+from .ragged import end_to_end, split
 
 
 def _basis(t: np.ndarray) -> np.ndarray:
@@ -139,10 +139,8 @@ def _fit_once(pieces: list[np.ndarray], t0: np.ndarray, t1: np.ndarray, tol: flo
     piece's arithmetic is its own: a piece fits the same in any batch).
 
     Returns the cubics (m, 4, 2), each one's largest miss and its misses at its points."""
-    sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
-    first = starts(sizes)
-    last = first + sizes - 1
-    pts = np.concatenate(pieces)
+    pts, first, last = end_to_end(pieces)
+    sizes = last - first + 1
     which = np.repeat(np.arange(len(pieces)), sizes)
     s = ragged_arc_lengths(pts, first, last)
     arc = s[last]

@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .ragged import Polylines, arc_lengths, starts
+from .ragged import Polylines, arc_lengths, end_to_end
 
 DEFAULT_SAMPLES = 256
 
@@ -42,10 +42,7 @@ def resample_rings(rings: list[np.ndarray], n: int) -> np.ndarray:
 def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
     """Samples of many polylines at arc positions ``where(k / n, length)``, k < n, laid
     end to end (:mod:`core.ragged`: the same to the bit as for each line alone)."""
-    sizes = np.fromiter(map(len, lines), dtype=np.intp, count=len(lines))
-    first = starts(sizes)
-    last = first + sizes - 1
-    points = lines[0] if len(lines) == 1 else np.concatenate(lines)
+    points, first, last = end_to_end(lines)
     s = arc_lengths(points, first, last)
     t = where(_fractions(n), s[last][:, None]).ravel()
     which = np.repeat(np.arange(len(lines)), n)

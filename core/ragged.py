@@ -29,6 +29,15 @@ def starts(sizes: np.ndarray) -> np.ndarray:
     return first
 
 
+def end_to_end(polylines: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The points of all polylines in one array, and the index of each one's first point
+    and of its last."""
+    sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+    first = starts(sizes)
+    points = polylines[0] if len(polylines) == 1 else np.concatenate(polylines)
+    return points, first, first + sizes - 1
+
+
 def split(x: np.ndarray, sizes: np.ndarray) -> list[np.ndarray]:
     """``x`` cut into consecutive runs of these sizes (np.split is slow for many)."""
     if len(sizes) == 1:
@@ -78,10 +87,8 @@ def total_lengths(polylines: list[np.ndarray]) -> np.ndarray:
     """The length of each polyline: ``core.geometry.arc_lengths(p)[-1]`` of each, to the bit."""
     if not polylines:
         return np.empty(0)
-    sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
-    first = starts(sizes)
-    last = first + sizes - 1
-    return arc_lengths(np.concatenate(polylines), first, last)[last]
+    points, first, last = end_to_end(polylines)
+    return arc_lengths(points, first, last)[last]
 
 
 @dataclass(eq=False)
@@ -97,10 +104,8 @@ class Polylines:
     @classmethod
     def of(cls, arcs: list[np.ndarray], points: list[np.ndarray]) -> Polylines:
         """From each polyline's arc lengths and points."""
-        sizes = np.fromiter(map(len, arcs), dtype=np.intp, count=len(arcs))
-        first = starts(sizes)
-        return cls.of_flat(np.concatenate(arcs), np.concatenate(points), first,
-                           first + sizes - 1)
+        flat, first, last = end_to_end(points)
+        return cls.of_flat(np.concatenate(arcs), flat, first, last)
 
     @classmethod
     def of_flat(cls, s: np.ndarray, points: np.ndarray, first: np.ndarray, last: np.ndarray

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .components import cluster_labels
-from .ragged import Polylines, arc_lengths, starts, total_lengths
+from .ragged import Polylines, arc_lengths, end_to_end, total_lengths
 
 
 @dataclass
@@ -68,10 +68,7 @@ def end_directions(polylines: list[np.ndarray], reach: float) -> np.ndarray:
     """Unit direction leaving each end of each polyline, looking ``reach`` along it:
     rows 2k (from the first point of polyline k) and 2k + 1 (from its last)."""
     walks = [w for p in polylines for w in (p, p[::-1])]
-    sizes = np.fromiter(map(len, walks), dtype=np.intp, count=len(walks))
-    first = starts(sizes)
-    last = first + sizes - 1
-    points = np.concatenate(walks)
+    points, first, last = end_to_end(walks)
     lines = Polylines.of_flat(arc_lengths(points, first, last), points, first, last)
     k = np.maximum(lines.index(np.arange(len(walks)), np.full(len(walks), reach)), first + 1)
     d = points[k] - points[first]

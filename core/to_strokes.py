@@ -63,6 +63,11 @@ class StrokeMemo:
     tips: dict[bytes, list[int]] = field(default_factory=dict)  # where chains are cut
 
 
+def _shape_key(points: np.ndarray, closed: bool) -> bytes:
+    """A polyline by content, open or closed, as the memo keys what is worked out of it."""
+    return points.tobytes() + (b"c" if closed else b"o")
+
+
 def linework(state: ComplexState) -> list[Edge]:
     """The alive curves, each with the perimeter of the smallest patch it bounds."""
     alive = state.alive_curves()
@@ -364,7 +369,7 @@ def split_at_tips(chains: list[Edge], d_eps: float, memo: StrokeMemo) -> list[Ed
     out = []
     for e in chains:
         pts = e.points
-        key = pts.tobytes() + (b"c" if e.closed else b"o")
+        key = _shape_key(pts, e.closed)
         if key not in memo.tips:
             cuts = corner_indices(pts, TIP_ANGLE, d_eps)
             if e.closed and not cuts:
@@ -399,7 +404,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
         pts = resample_polyline(stroke.points, d_eps / 4)
-        strokes.append((pts.tobytes() + (b"c" if stroke.closed else b"o"), pts, stroke.closed))
+        strokes.append((_shape_key(pts, stroke.closed), pts, stroke.closed))
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
     if todo:  # fitted together
         made = fit_beziers([pts for _, (pts, _) in todo], params.fit_error * d_eps,

@@ -10,7 +10,7 @@ canvas diagonal, mean distance of the output to the ink (px), F-score against th
 against size on synthetic sketches of 100, 1,000 and 10,000 strokes with the fitted
 growth exponent. ``at ms`` is the time of ``result.at(epsilon / 2)``, what a slider costs.
 The machine's pace (a plain Python loop) is printed before and after: seconds mean little
-without it on shared machines, whose pace changes two- or threefold from hour to hour.
+without it on shared machines, whose pace changes two- to fourfold from hour to hour.
 """
 
 from __future__ import annotations
@@ -132,7 +132,7 @@ def scaling(sizes: list[int]) -> None:
 
 def machine_pace(repeat: int = 3) -> float:
     """Seconds a plain Python loop of 3,000,000 additions takes here (best of ``repeat``):
-    the same code runs two or three times slower on a busy or shared machine, so times
+    the same code runs two to four times slower on a busy or shared machine, so times
     from different machines are compared through this."""
     best = float("inf")
     for _ in range(repeat):
