@@ -62,6 +62,10 @@ TIE_RANK = {"CP": 0, "CC": 1, "PP": 2}
 #: shapes described together when the queue is first filled (a batch of 256 rings takes
 #: about 1 MB of samples)
 COST_BATCH = 256
+#: queue entries looked at, when a stale curve-curve pair comes up, for the stale such
+#: pairs to cost with it in one batch (the ones next in line are the likeliest to be
+#: wanted before a merge removes one of their curves)
+LOOK_AHEAD = 64
 
 
 @dataclass
@@ -89,9 +93,7 @@ class Agglomerator:
         self.curve_fd: dict[int, np.ndarray] = {}
         self.sampled: dict[int, SampledCurve] = {}
         self.known: dict[tuple, float] = {}
-        # curve-curve pairs queued stale and not costed yet, and costs worked out ahead
-        self.pending_cc: set[tuple[int, int]] = set()
-        self.precosted: dict[tuple[int, int], float] = {}
+        self.precosted: dict[tuple[int, int], float] = {}  # curve-curve costs worked out ahead
         # curves that curve-curve pairs cheaper than epsilon would merge into, kept from
         # their costing for when they are applied (not their descriptors: a dense sketch
         # has tens of thousands of such pairs, and a descriptor is the bigger of the two)
@@ -232,22 +234,29 @@ class Agglomerator:
     def _cost(self, kind: str, a: int, b: int) -> float:
         """The cost of one pair, known from now on (its children are offered with it).
 
-        Curve-curve pairs offered since the last such cost are costed with it in one batch
-        (ten times cheaper a pair than one at a time); their costs wait in ``precosted``
-        until their own entry reaches the top of the queue. A cost depends on the pair
-        alone, so costing it early changes nothing but the work done.
+        A curve-curve pair is costed in one batch with the stale such pairs among the next
+        ``LOOK_AHEAD`` entries of the queue (ten times cheaper a pair than one at a time);
+        their costs wait in ``precosted`` until their own entries reach the top. A cost
+        depends on the pair alone, so costing it early changes nothing but the work done.
         """
         if kind == "CC" and (a, b) not in self.precosted:
-            batch = sorted({p for p in self.pending_cc if self._alive("CC", *p)} | {(a, b)})
-            self.pending_cc.clear()
-            for k in range(0, len(batch), COST_BATCH):
-                chunk = batch[k:k + COST_BATCH]
-                self.precosted.update(zip(chunk, self._costs("CC", chunk)))
+            batch = sorted({(a, b)} | {(x, y) for _, _, _, k, x, y, fresh in self._next_entries()
+                                       if k == "CC" and not fresh and (x, y) not in self.precosted
+                                       and self._alive(k, x, y)})
+            self.precosted.update(zip(batch, self._costs("CC", batch)))
         cost = self.precosted.pop((a, b)) if kind == "CC" else self._costs(kind, [(a, b)])[0]
         self.known[(kind, a, b)] = cost
         return cost
 
     # -- the queue ---------------------------------------------------------------------------
+    def _next_entries(self) -> list[tuple]:
+        """The next ``LOOK_AHEAD`` entries of the queue, left in it (their keys are unique,
+        so it pops in the same order after)."""
+        entries = [heapq.heappop(self.heap) for _ in range(min(LOOK_AHEAD, len(self.heap)))]
+        for entry in entries:
+            heapq.heappush(self.heap, entry)
+        return entries
+
     def _push(self, cost: float, kind: str, a: int, b: int, fresh: bool) -> None:
         if cost < INF:
             heapq.heappush(self.heap, (cost, TIE_RANK[kind], self.order, kind, a, b, fresh))
@@ -279,8 +288,6 @@ class Agglomerator:
         self.known[(kind, a, b)] = estimate
         if estimate < INF:
             self._push(estimate * (PP_ESTIMATE if kind != "CC" else 1.0), kind, a, b, False)
-            if kind == "CC" and estimate < self.params.epsilon:  # a pair that may come up
-                self.pending_cc.add((a, b))
 
     def _alive(self, kind: str, a: int, b: int) -> bool:
         st = self.state
