@@ -54,3 +54,39 @@ def cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -> np.n
     labels = component_labels(len(unique), pairs())[inverse.ravel()]
     _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
     return np.argsort(np.argsort(first))[inverse.ravel()]
+
+
+def tight_cluster_labels(points: np.ndarray, radius: float) -> np.ndarray:
+    """Labels of ``points`` such that any two within ``radius`` share one, as long as
+    the clusters stay small: each within ``radius`` of its mean, or of its first point.
+
+    Single linkage chains: ends spaced along two close parallel lines would all be one
+    cluster, and moving them to its mean would pull a whole stretch of drawing to one
+    point. A cluster with a point farther than ``radius`` from its mean is split instead,
+    greedily in the order of its points: each point not yet taken gathers the points
+    within ``radius`` of it not yet taken.
+    """
+    labels = cluster_labels(points, radius)
+    count = np.bincount(labels)
+    mean = np.zeros((len(count), points.shape[1]))
+    np.add.at(mean, labels, points)
+    mean /= count[:, None]
+    far = np.hypot(*(points - mean[labels]).T) > radius
+    wide = np.unique(labels[far])
+    if not len(wide):
+        return labels
+    members = np.flatnonzero(np.isin(labels, wide))
+    tree = shapely.STRtree(shapely.points(points[members]))
+    i, j = tree.query(shapely.points(points[members]), predicate="dwithin", distance=radius)
+    near = np.split(j, np.searchsorted(i, np.arange(1, len(members))))
+    taken = np.full(len(members), -1)
+    top = labels.max() + 1
+    for k in range(len(members)):
+        if taken[k] < 0:
+            group = near[k][taken[near[k]] < 0]
+            taken[group] = top
+            top += 1
+    labels = labels.copy()
+    labels[members] = taken
+    _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
+    return np.argsort(np.argsort(first))[inverse.ravel()]

@@ -1,7 +1,8 @@
 """A graph of output edges: polylines whose ends meet at nodes.
 
 Ends closer than ``snap`` are one node (placed at their mean), so that curves made by
-merges, whose ends land near but not on a junction, still meet it.
+merges, whose ends land near but not on a junction, still meet it. A chain of ends each
+within ``snap`` of the next is cut into such groups, so that no end moves far.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .components import cluster_labels
+from .components import tight_cluster_labels
 from .ragged import Polylines, arc_lengths, end_to_end, total_lengths
 
 
@@ -42,7 +43,7 @@ def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:
     if not edges:
         return StrokeGraph([])
     ends = np.array([[e.points[0], e.points[-1]] for e in edges]).reshape(-1, 2)
-    labels = cluster_labels(ends, snap)
+    labels = tight_cluster_labels(ends, snap)
     nodes = np.zeros((labels.max() + 1, 2))
     np.add.at(nodes, labels, ends)
     nodes /= np.bincount(labels)[:, None]

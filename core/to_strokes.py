@@ -5,8 +5,9 @@
 2. Bi-edges: curves that still run side by side (the two long sides of a slender border
    patch, or a free curve along an outline) are merged by the curve-curve operator again,
    while the merge costs less than epsilon.
-3. A graph of the edges, split where merged curves cross; spurs shorter than 3 d_eps hanging
-   off a junction (overshoots past a corner or a crossing) are trimmed.
+3. A graph of the edges, split where merged curves cross; overshoots past a corner or a
+   crossing (short edges hanging off a junction that run straight on from a longer edge
+   there) are trimmed, short details meeting a line at an angle are kept.
 4. Smoothing: an edge shorter than d_eps between two junctions (and shorter than beta times
    the perimeter of the patch it bounds) is contracted to a point. This settles both of the
    paper's cases: a zigzag step becomes a node where its neighbours continue each other, and
@@ -249,20 +250,40 @@ def renode(edges: list[Edge]) -> list[Edge]:
 #: next (the later ones are wasted when a merge before them changes their edges)
 LOOK_AHEAD = 32
 
-#: spurs up to this many d_eps long are trimmed: overshoots past a corner or a crossing
+#: dangling edges up to this many d_eps long that run straight on from a longer edge
+#: through a junction are trimmed: overshoots past a corner or a crossing
 SPUR_LENGTH = 3.0
 
 
-def trim_spurs(graph: StrokeGraph, d_eps: float) -> StrokeGraph:
-    """Drop short edges (overshoots) that hang off a junction by one free end."""
+def trim_spurs(graph: StrokeGraph, d_eps: float, cos_join: float) -> StrokeGraph:
+    """Drop overshoots: short edges hanging off a junction by one free end that continue a
+    longer edge there (leaving the junction opposite to it, within the join angle), and
+    crumbs shorter than d_eps whatever their direction.
+
+    A short edge meeting a line at an angle (a fret across a neck, a whisker, the stem of
+    a T) is a detail of the drawing, and stays. Of two short edges that continue each
+    other (a tick across a line), the shorter goes.
+    """
     for _ in range(2):
         if not graph.edges:
             return graph
         deg = graph.degree()
         lengths = graph.lengths()
         da, db = deg[graph.ends[:, 0]], deg[graph.ends[:, 1]]
-        spur = (lengths < SPUR_LENGTH * d_eps) & (((da == 1) & (db >= 3))
-                                                  | ((db == 1) & (da >= 3)))
+        hanging = (lengths < SPUR_LENGTH * d_eps) & (((da == 1) & (db >= 3))
+                                                     | ((db == 1) & (da >= 3)))
+        if not hanging.any():
+            break
+        spur = hanging & (lengths < d_eps)
+        directions = end_directions([e.points for e in graph.edges], 2 * d_eps)
+        node_of_end = graph.ends.ravel()
+        for k in np.flatnonzero(hanging & ~spur).tolist():
+            end = 2 * k + int(da[k] == 1)  # the end at the junction
+            others = np.flatnonzero(node_of_end == node_of_end[end])
+            others = others[others >> 1 != k]
+            longer = (lengths[others >> 1] > lengths[k]) | (
+                (lengths[others >> 1] == lengths[k]) & (others >> 1 > k))
+            spur[k] = bool(np.any(longer & (directions[others] @ -directions[end] >= cos_join)))
         if not spur.any():
             break
         graph = rebuild(graph, ~spur)
@@ -281,10 +302,15 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
              & (a != b))
     if not short.any():
         return graph
-    root = component_labels(len(graph.nodes), graph.ends[short])
-    centre = np.zeros_like(graph.nodes)
-    np.add.at(centre, root, graph.nodes)
-    centre /= np.maximum(np.bincount(root, minlength=len(root)), 1)[:, None]
+    # short edges in a row (a curve drawn as many short links between crossings) would
+    # pull a whole stretch of drawing to one point: a group wider than d_eps stays
+    root, centre = _contracted(graph.nodes, graph.ends[short])
+    wide = np.zeros(len(root), dtype=bool)
+    np.logical_or.at(wide, root, np.hypot(*(graph.nodes - centre[root]).T) > d_eps)
+    short &= ~wide[root[a]]
+    if not short.any():
+        return graph
+    root, centre = _contracted(graph.nodes, graph.ends[short])
     ends = root[graph.ends]
     for k, e in enumerate(graph.edges):
         pts = e.points.copy()
@@ -293,6 +319,16 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
     graph.ends = ends
     graph.nodes = centre
     return rebuild(graph, ~short | (ends[:, 0] != ends[:, 1]))
+
+
+def _contracted(nodes: np.ndarray, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each node's group when the given pairs of nodes are contracted, and each group's
+    centre (the mean of its nodes)."""
+    root = component_labels(len(nodes), pairs)
+    centre = np.zeros_like(nodes)
+    np.add.at(centre, root, nodes)
+    centre /= np.maximum(np.bincount(root, minlength=len(root)), 1)[:, None]
+    return root, centre
 
 
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True
@@ -395,7 +431,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
     edges = merge_bi_edges(split_at_tips(chains, d_eps, memo), params, memo)
     graph = build_graph(renode(edges), snap)
-    graph = trim_spurs(graph, d_eps)
+    graph = trim_spurs(graph, d_eps, np.cos(np.radians(params.join_angle)))
     graph = contract_short_edges(graph, d_eps, params.beta)
     strokes = []
     for stroke in join_edges(graph, params):

@@ -18,6 +18,8 @@ from core import Sketch, SketchError, Stroke, read_sketch, simplify
 from core.geometry import lines_from
 from core.metrics import coverage, fidelity
 from core.params import SimplifyParams
+from core.stroke_graph import Edge, build_graph
+from core.to_strokes import trim_spurs
 
 
 def wobbly(a, b, offset, n=40, amplitude=0.0, phase=0.0):
@@ -86,6 +88,28 @@ def test_paper_triangle_becomes_three_sides():
     triangle = [np.array([a, b, c, a])]
     assert coverage(triangle, out, tol=2.0) > 0.97
     assert max_distance_to(np.concatenate(out), triangle) < 3.0
+
+
+def test_overshoots_are_trimmed_and_short_details_at_an_angle_kept():
+    line = [Stroke(wobbly((0, 0), (100, 0), 0.0)), Stroke(wobbly((1, 0), (99, 0), 0.5))]
+    stem = np.array([(50, -0.6), (50, 3.0)])  # 3 long: a detail, at right angles to the line
+    corner = np.array([(98, -8), (98, 0.7)])  # turns the line's end into a corner
+    result = simplify(Sketch(line + [Stroke(stem), Stroke(corner)]))
+    out = [s.points for s in result.strokes]
+    assert coverage([np.array([(50, 1.0), (50, 3.0)])], out, tol=0.5) > 0.9  # the stem stays
+    ends = np.concatenate(out)
+    assert ends[:, 0].max() < 98.5  # the line's 2 units past the corner are trimmed
+    assert ends[:, 1].max() < 3.2 and ends[(ends[:, 0] > 97), 1].max() < 0.5  # and the tip
+
+
+def test_of_two_short_edges_continuing_each_other_the_shorter_is_trimmed():
+    pieces = {"a1": [(0, 0), (25, 0)], "a2": [(25, 0), (50, 0)], "past": [(50, 0), (52, 0)],
+              "b": [(50, 0), (50, 50)], "stem": [(25, 0), (25, 3)], "tick": [(25, 0), (25, -1.5)]}
+    graph = build_graph([Edge(np.array(p, float)) for p in pieces.values()], 0.1)
+    trimmed = trim_spurs(graph, 1.2, np.cos(np.radians(40)))
+    kept = {tuple(map(tuple, e.points[[0, -1]].round(3))) for e in trimmed.edges}
+    wanted = ("a1", "a2", "b", "stem")  # "past" overshoots the corner, "tick" is the shorter
+    assert kept == {tuple(map(tuple, np.array(pieces[k], float))) for k in wanted}
 
 
 def test_epsilon_zero_merges_nothing():
