@@ -17,6 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from . import geometry
 from .ragged import Polylines, arc_lengths, end_to_end
 
 DEFAULT_SAMPLES = 256
@@ -42,6 +43,11 @@ def resample_rings(rings: list[np.ndarray], n: int) -> np.ndarray:
 def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
     """Samples of many polylines at arc positions ``where(k / n, length)``, k < n, laid
     end to end (:mod:`core.ragged`: the same to the bit as for each line alone)."""
+    if len(lines) == 1:  # the merge loop's usual case: np.interp on the line itself
+        line = lines[0]
+        s = geometry.arc_lengths(line)
+        t = where(_fractions(n), s[-1])
+        return np.stack([np.interp(t, s, line[:, 0]), np.interp(t, s, line[:, 1])], axis=1)[None]
     points, first, last = end_to_end(lines)
     s = arc_lengths(points, first, last)
     t = where(_fractions(n), s[last][:, None]).ravel()
