@@ -56,7 +56,7 @@ def cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -> np.n
     return np.argsort(np.argsort(first))[inverse.ravel()]
 
 
-def tight_cluster_labels(points: np.ndarray, radius: float) -> np.ndarray:
+def tight_cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -> np.ndarray:
     """Labels of ``points`` such that any two within ``radius`` share one, as long as
     the clusters stay small: each within ``radius`` of its mean, or of its first point.
 
@@ -76,16 +76,17 @@ def tight_cluster_labels(points: np.ndarray, radius: float) -> np.ndarray:
     if not len(wide):
         return labels
     members = np.flatnonzero(np.isin(labels, wide))
-    tree = shapely.STRtree(shapely.points(points[members]))
-    i, j = tree.query(shapely.points(points[members]), predicate="dwithin", distance=radius)
-    near = np.split(j, np.searchsorted(i, np.arange(1, len(members))))
+    geoms = shapely.points(points[members])
+    tree = shapely.STRtree(geoms)
     taken = np.full(len(members), -1)
     top = labels.max() + 1
-    for k in range(len(members)):
-        if taken[k] < 0:
-            group = near[k][taken[near[k]] < 0]
-            taken[group] = top
-            top += 1
+    for start in range(0, len(members), chunk):  # neighbours a chunk at a time, as above
+        i, j = tree.query(geoms[start:start + chunk], predicate="dwithin", distance=radius)
+        near = np.split(j, np.searchsorted(i, np.arange(1, min(chunk, len(members) - start))))
+        for k, group in enumerate(near, start):
+            if taken[k] < 0:
+                taken[group[taken[group] < 0]] = top
+                top += 1
     labels = labels.copy()
     labels[members] = taken
     _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
