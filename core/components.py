@@ -51,9 +51,7 @@ def cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -> np.n
             i = i + k
             yield np.stack([i[i < j], j[i < j]], axis=1)
 
-    labels = component_labels(len(unique), pairs())[inverse.ravel()]
-    _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
-    return np.argsort(np.argsort(first))[inverse.ravel()]
+    return _numbered_by_first(component_labels(len(unique), pairs())[inverse.ravel()])
 
 
 def tight_cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -> np.ndarray:
@@ -67,15 +65,10 @@ def tight_cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -
     within ``radius`` of it not yet taken.
     """
     labels = cluster_labels(points, radius)
-    count = np.bincount(labels)
-    mean = np.zeros((len(count), points.shape[1]))
-    np.add.at(mean, labels, points)
-    mean /= count[:, None]
-    far = np.hypot(*(points - mean[labels]).T) > radius
-    wide = np.unique(labels[far])
-    if not len(wide):
+    wide = wider_than(points, labels, radius)
+    if not wide.any():
         return labels
-    members = np.flatnonzero(np.isin(labels, wide))
+    members = np.flatnonzero(wide[labels])
     geoms = shapely.points(points[members])
     tree = shapely.STRtree(geoms)
     taken = np.full(len(members), -1)
@@ -87,7 +80,24 @@ def tight_cluster_labels(points: np.ndarray, radius: float, chunk: int = 4096) -
             if taken[k] < 0:
                 taken[group[taken[group] < 0]] = top
                 top += 1
-    labels = labels.copy()
     labels[members] = taken
+    return _numbered_by_first(labels)
+
+
+def group_means(points: np.ndarray, labels: np.ndarray) -> np.ndarray:
+    """The mean of each group's points (labels 0..k-1, each used)."""
+    sums = np.zeros((labels.max() + 1, points.shape[1]))
+    np.add.at(sums, labels, points)
+    return sums / np.bincount(labels)[:, None]
+
+
+def wider_than(points: np.ndarray, labels: np.ndarray, radius: float) -> np.ndarray:
+    """Whether each group has a point farther than ``radius`` from the group's mean."""
+    far = np.hypot(*(points - group_means(points, labels)[labels]).T) > radius
+    return np.bincount(labels[far], minlength=labels.max() + 1) > 0
+
+
+def _numbered_by_first(labels: np.ndarray) -> np.ndarray:
+    """The same grouping, numbered 0..k-1 in order of each group's first item."""
     _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
     return np.argsort(np.argsort(first))[inverse.ravel()]

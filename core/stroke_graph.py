@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .components import tight_cluster_labels
+from .components import group_means, tight_cluster_labels
 from .ragged import Polylines, arc_lengths, end_to_end, total_lengths
 
 
@@ -44,9 +44,7 @@ def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:
         return StrokeGraph([])
     ends = np.array([[e.points[0], e.points[-1]] for e in edges]).reshape(-1, 2)
     labels = tight_cluster_labels(ends, snap)
-    nodes = np.zeros((labels.max() + 1, 2))
-    np.add.at(nodes, labels, ends)
-    nodes /= np.bincount(labels)[:, None]
+    nodes = group_means(ends, labels)
     for k, e in enumerate(edges):
         pts = e.points.copy()
         pts[0], pts[-1] = nodes[labels[2 * k]], nodes[labels[2 * k + 1]]

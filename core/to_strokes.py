@@ -30,7 +30,7 @@ import shapely
 
 from .bezier import corner_indices, fit_beziers, sample
 from .complex_state import ComplexState
-from .components import component_labels
+from .components import component_labels, group_means, wider_than
 from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from .fourier import curve_descriptors, fd_distance
 from .geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
@@ -304,13 +304,12 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
         return graph
     # short edges in a row (a curve drawn as many short links between crossings) would
     # pull a whole stretch of drawing to one point: a group wider than d_eps stays
-    root, centre = _contracted(graph.nodes, graph.ends[short])
-    wide = np.zeros(len(root), dtype=bool)
-    np.logical_or.at(wide, root, np.hypot(*(graph.nodes - centre[root]).T) > d_eps)
-    short &= ~wide[root[a]]
+    root = component_labels(len(graph.nodes), graph.ends[short])
+    short &= ~wider_than(graph.nodes, root, d_eps)[root[a]]
     if not short.any():
         return graph
-    root, centre = _contracted(graph.nodes, graph.ends[short])
+    root = component_labels(len(graph.nodes), graph.ends[short])
+    centre = group_means(graph.nodes, root)
     ends = root[graph.ends]
     for k, e in enumerate(graph.edges):
         pts = e.points.copy()
@@ -319,16 +318,6 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
     graph.ends = ends
     graph.nodes = centre
     return rebuild(graph, ~short | (ends[:, 0] != ends[:, 1]))
-
-
-def _contracted(nodes: np.ndarray, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each node's group when the given pairs of nodes are contracted, and each group's
-    centre (the mean of its nodes)."""
-    root = component_labels(len(nodes), pairs)
-    centre = np.zeros_like(nodes)
-    np.add.at(centre, root, nodes)
-    centre /= np.maximum(np.bincount(root, minlength=len(root)), 1)[:, None]
-    return root, centre
 
 
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True
