@@ -2,19 +2,37 @@
 
 Pure Python with numpy and shapely; never imports Blender. Internal imports are relative,
 so the package works both as top-level ``core`` and as the extension's ``<pkg>.core``.
+
+The folders are the pipeline, in the order data flows through it (``docs/design.md``):
+
+* :mod:`core.io` reads and writes sketch files and cleans strokes into the unit frame;
+* :mod:`core.complex` nodes the strokes into the base complex (nodes, curves, patches);
+* :mod:`core.merge` agglomerates it: the greedy merge loop and what it measures;
+* :mod:`core.output` turns the simplified complex back into fitted strokes;
+* :mod:`core.arrays` holds the array helpers all of them share.
+
+At the top: the plain data (:mod:`core.sketch`, :mod:`core.params`), the API
+(:mod:`core.simplify`), and what applications build on it (:mod:`core.parallel`,
+:mod:`core.replay_cache`). The command line (:mod:`core.cli`) is one such application.
+Everything an application needs is exported here; nothing outside ``core`` reaches past it.
 """
 
-from .base_complex import BaseComplex, BaseComplexError, Patch, build_base_complex
-from .cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
-from .fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
-from .io import read_sketch, write_sketch
+from .complex.base_complex import BaseComplex, BaseComplexError, Patch, build_base_complex
+from .io.cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
+from .io.files import read_sketch, write_sketch
+from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
+from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier
+from .parallel import default_jobs, simplify_all
 from .params import SimplifyParams
+from .replay_cache import ReplayCache
 from .simplify import SimplifyResult, simplify
 from .sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "BaseComplex", "BaseComplexError", "CleaningReport", "Normalisation", "Patch", "Sketch",
-    "SketchError", "Stroke", "build_base_complex", "clean_sketch", "curve_descriptors",
-    "fd_distance", "fourier_descriptor", "fourier_descriptors", "normalised_strokes",
-    "read_sketch", "simplify", "SimplifyParams", "SimplifyResult", "write_sketch",
+    "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "CleaningReport",
+    "Normalisation", "Patch", "ReplayCache", "Sketch", "SketchError", "Stroke",
+    "SimplifyParams", "SimplifyResult", "build_base_complex", "clean_sketch",
+    "curve_descriptors", "default_jobs", "evaluate_bezier", "fd_distance",
+    "fourier_descriptor", "fourier_descriptors", "normalised_strokes", "read_sketch",
+    "sample_bezier", "simplify", "simplify_all", "write_sketch",
 ]

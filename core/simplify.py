@@ -7,16 +7,16 @@ from dataclasses import dataclass, field, replace
 
 import shapely
 
-from .agglomeration import AgglomerationStats, agglomerate
-from .attributes import NearestInk
-from .base_complex import BaseComplex, build_base_complex
-from .cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
-from .complex_state import ComplexState, Merge
-from .geometry import polygons_from
-from .noding import more_crossings_than
+from .arrays.geometry import polygons_from
+from .complex.base_complex import BaseComplex, build_base_complex
+from .complex.complex_state import ComplexState, Merge
+from .complex.noding import more_crossings_than
+from .io.cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
+from .merge.agglomeration import AgglomerationStats, agglomerate
+from .output.attributes import NearestInk
+from .output.to_strokes import StrokeMemo, to_strokes
 from .params import SimplifyParams
 from .sketch import Sketch, SketchError, Stroke
-from .to_strokes import StrokeMemo, to_strokes
 
 
 @dataclass

@@ -61,9 +61,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--objects", default="", help="comma-separated object names")
     p.add_argument("--layers", choices=("visible", "active"), default="visible")
     p.add_argument("--frames", default="all", help="all, current, or a range like 10-120")
-    p.add_argument("--epsilon", type=float, default=0.015)
-    p.add_argument("--alpha", type=float, default=0.012)
-    p.add_argument("--samples", type=int, default=256)
+    # no defaults written here: what is not given is SimplifyParams()'s own default
+    p.add_argument("--epsilon", type=float, help="how far to simplify (default: the core's)")
+    p.add_argument("--alpha", type=float, help="bundle width as a fraction of the diagonal")
+    p.add_argument("--samples", type=int, help="Fourier descriptor samples N")
     p.add_argument("--output", type=Path, help="output .blend (one input) or folder")
     p.add_argument("--in-place", action="store_true", help="overwrite the input, after a "
                    ".blend1 backup")
@@ -122,14 +123,14 @@ def main() -> int:
     from extension import load_extension
 
     load_extension()  # the repository as the extension package, nothing registered
-    from sketchsimp.core import SimplifyParams
-    from sketchsimp.core.sketch import SketchError
+    from sketchsimp.core import SimplifyParams, SketchError
     from sketchsimp.sketchsimp_addon import run
 
     t0 = time.perf_counter()
     try:
         frames_mode, frame_range = parse_frames(args.frames)
-        params = SimplifyParams(epsilon=args.epsilon, alpha=args.alpha, samples=args.samples)
+        given = {k: getattr(args, k) for k in ("epsilon", "alpha", "samples")}
+        params = SimplifyParams(**{k: v for k, v in given.items() if v is not None})
         if args.jobs is not None and args.jobs < 1:
             raise UsageError(f"--jobs must be at least 1, got {args.jobs}")
         blends = list(args.blend) or ([None] if bpy.data.filepath else [])

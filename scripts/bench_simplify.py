@@ -29,9 +29,9 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from bench_complex import rough_files, sketch_name  # noqa: E402
+from metrics import coverage, fidelity, precision_recall_f  # noqa: E402
 
 from core import read_sketch  # noqa: E402
-from core.metrics import coverage, fidelity, precision_recall_f  # noqa: E402
 from core.params import SimplifyParams  # noqa: E402
 from core.simplify import simplify  # noqa: E402
 

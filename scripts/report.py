@@ -38,10 +38,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from bench_complex import rough_files, sketch_name  # noqa: E402
 from bench_simplify import intended_curves, machine_pace, measure_synthetic  # noqa: E402
+from metrics import chamfer, coverage, fidelity, precision_recall_f  # noqa: E402
 
 from core import SimplifyParams, read_sketch, simplify  # noqa: E402
-from core.geometry import lines_from, split_coordinates  # noqa: E402
-from core.metrics import chamfer, coverage, fidelity, precision_recall_f  # noqa: E402
+from core.arrays.geometry import lines_from, split_coordinates  # noqa: E402
 from core.parallel import default_jobs  # noqa: E402
 
 EPSILONS = (0.005, 0.01, 0.015, 0.02, 0.03, 0.05)

@@ -6,7 +6,7 @@ import traceback
 
 import bpy
 
-from ..core.sketch import SketchError
+from ..core import SketchError
 from .options import SimplifyOptions
 from .run import simplify_curve_object, simplify_object, write_curve_result, write_results
 

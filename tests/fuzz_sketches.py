@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
 from core import Sketch, SketchError, Stroke, simplify
-from core.base_complex import BaseComplex, check_euler
+from core.complex.base_complex import BaseComplex, check_euler
 
 finite = st.floats(-100, 100, allow_nan=False, allow_infinity=False)
 point = st.tuples(finite, finite)

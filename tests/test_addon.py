@@ -17,7 +17,7 @@ from blender_scene import (
     snapshot,
 )
 
-from core.geometry import lines_from
+from core.arrays.geometry import lines_from
 
 
 @pytest.fixture(scope="module", autouse=True)

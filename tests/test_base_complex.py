@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from core import build_base_complex
-from core.base_complex import BaseComplexError, check_euler
-from core.geometry import lines_from
+from core.arrays.geometry import lines_from
+from core.complex.base_complex import BaseComplexError, check_euler
 
 
 def build(*strokes):
@@ -187,7 +187,7 @@ def test_random_sketches_form_a_planar_subdivision(raw):
 def test_crossing_count_is_exact_past_the_limit_and_none_within_it():
     # a grid of 12 horizontal and 12 vertical lines: 144 proper crossings, while a fan of
     # 200 parallel diagonals has thousands of overlapping boxes and no crossing at all
-    from core.noding import more_crossings_than
+    from core.complex.noding import more_crossings_than
 
     t = np.linspace(0, 11, 12)
     grid = [np.array([[-1, y], [12, y]]) for y in t] + [np.array([[x, -1], [x, 12]]) for x in t]

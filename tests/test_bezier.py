@@ -7,8 +7,8 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from core.bezier import corner_indices, fit_bezier, fit_beziers, sample
-from core.geometry import resample_polyline
+from core.arrays.geometry import resample_polyline
+from core.output.bezier import corner_indices, fit_bezier, fit_beziers, sample_bezier
 
 
 def distance_to(points, polyline):
@@ -20,7 +20,7 @@ def test_arc_within_the_error_bound_and_few_segments():
     arc = np.stack([np.cos(t), np.sin(t)], axis=1)
     ctrl = fit_bezier(arc, 1e-3)
     assert (len(ctrl) - 1) % 3 == 0 and len(ctrl) <= 3 * 4 + 1
-    assert np.abs(np.hypot(*sample(ctrl, 32).T) - 1).max() < 2e-3
+    assert np.abs(np.hypot(*sample_bezier(ctrl, 32).T) - 1).max() < 2e-3
     np.testing.assert_allclose(ctrl[[0, -1]], arc[[0, -1]])
 
 
@@ -53,10 +53,10 @@ def test_fits_never_blow_up(raw, tol):
     ctrl = fit_bezier(pts, tol)
     assert np.isfinite(ctrl).all()
     # the data points are fitted within the bound ...
-    assert distance_to(pts, sample(ctrl, 64)).max() <= tol * 1.01 + 1e-9
+    assert distance_to(pts, sample_bezier(ctrl, 64)).max() <= tol * 1.01 + 1e-9
     # ... and the curve does not wander off between them
     length = np.hypot(*np.diff(pts, axis=0).T).sum()
-    assert distance_to(sample(ctrl, 64), pts).max() <= 0.5 * length + 1e-9
+    assert distance_to(sample_bezier(ctrl, 64), pts).max() <= 0.5 * length + 1e-9
 
 
 def test_a_closed_loop_shorter_than_the_spacing_stays_a_loop():

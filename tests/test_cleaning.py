@@ -7,7 +7,7 @@ import pytest
 from helpers import SAMPLES
 
 from core import Sketch, SketchError, Stroke, build_base_complex, clean_sketch, read_sketch
-from core.cleaning import Normalisation, normalised_strokes
+from core.io.cleaning import Normalisation, normalised_strokes
 
 
 def test_cleaning_removes_and_counts_what_cannot_be_drawn():

@@ -9,8 +9,8 @@ import sys
 import pytest
 from helpers import ROOT, SAMPLES, require_data
 
-from core.__main__ import main
-from core.inspection import inspect_sketch
+from core.cli import main
+from core.cli.inspection import inspect_sketch
 
 
 def test_inspect_prints_counts(capsys):

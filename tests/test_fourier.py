@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from helpers import circle
 
-from core.fourier import (
+from core.merge.fourier import (
     curve_descriptors,
     fd_distance,
     fourier_descriptor,

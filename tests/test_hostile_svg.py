@@ -12,8 +12,8 @@ import sys
 import pytest
 from helpers import ROOT
 
+from core.io.svg import MAX_SVG_ELEMENTS, MAX_SVG_NUMBERS, parse_svg
 from core.sketch import SketchError
-from core.svg import MAX_SVG_ELEMENTS, MAX_SVG_NUMBERS, parse_svg
 
 SVG = b'<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink">'
 
@@ -114,7 +114,7 @@ def test_use_bomb_limit_leaves_room_for_real_drawings():
 
 
 def test_oversized_file_is_refused_before_parsing(monkeypatch):
-    import core.svg as svg
+    import core.io.svg as svg
     monkeypatch.setattr(svg, "MAX_SVG_BYTES", 100)
     with pytest.raises(SketchError, match="larger than"):
         parse_svg(SVG + b'<path d="M0 0 L1 1"/>' * 10 + b"</svg>")

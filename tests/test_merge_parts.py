@@ -7,16 +7,16 @@ import pytest
 import shapely
 
 from core import build_base_complex
-from core.complex_state import ComplexState
-from core.geometry import lines_from
-from core.guard import DistanceGuard
-from core.patch_rings import (
+from core.arrays.geometry import lines_from
+from core.complex.complex_state import ComplexState
+from core.complex.patch_rings import (
     Outline,
     RingGeometry,
     half_edges,
     union_outline_points,
     union_rings,
 )
+from core.merge.guard import DistanceGuard
 
 
 def grid(n: int = 4, wobble: float = 0.0, seed: int = 0) -> list[np.ndarray]:

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from core.metrics import chamfer, coverage, fidelity, precision_recall_f
+from metrics import chamfer, coverage, fidelity, precision_recall_f
 
 
 def drawing():

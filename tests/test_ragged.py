@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core import geometry
-from core.fourier import curve_descriptors, fourier_descriptors
-from core.ragged import Polylines, arc_lengths, starts, total_lengths
-from core.stroke_graph import end_directions
+from core.arrays import geometry
+from core.arrays.ragged import Polylines, arc_lengths, starts, total_lengths
+from core.merge.fourier import curve_descriptors, fourier_descriptors
+from core.output.stroke_graph import end_directions
 
 
 def _polylines(seed: int) -> list[np.ndarray]:

@@ -12,14 +12,14 @@ import shapely
 from helpers import ROOT, SAMPLES, require_data
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from metrics import coverage, fidelity
 from test_base_complex import overshooting_side, short_crossing
 
 from core import Sketch, SketchError, Stroke, read_sketch, simplify
-from core.geometry import lines_from
-from core.metrics import coverage, fidelity
+from core.arrays.geometry import lines_from
+from core.output.stroke_graph import Edge, build_graph
+from core.output.to_strokes import trim_spurs
 from core.params import SimplifyParams
-from core.stroke_graph import Edge, build_graph
-from core.to_strokes import trim_spurs
 
 
 def wobbly(a, b, offset, n=40, amplitude=0.0, phase=0.0):

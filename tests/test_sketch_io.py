@@ -7,8 +7,8 @@ import pytest
 from helpers import SAMPLES
 
 from core import Sketch, SketchError, Stroke, read_sketch, write_sketch
-from core.scap import format_scap, parse_scap
-from core.svg import parse_svg
+from core.io.scap import format_scap, parse_scap
+from core.io.svg import parse_svg
 
 SCAP = """#400\t300
 @1.5

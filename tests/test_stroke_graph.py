@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from core.components import cluster_labels, tight_cluster_labels
-from core.stroke_graph import Edge, build_graph
+from core.arrays.components import cluster_labels, tight_cluster_labels
+from core.output.stroke_graph import Edge, build_graph
 
 
 def test_ends_within_snap_become_one_node():

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..sketch import Sketch, SketchError
 from .scap import read_scap, write_scap
-from .sketch import Sketch, SketchError
 from .svg import read_svg, write_svg
 
 READERS = {".svg": read_svg, ".scap": read_scap}

@@ -19,7 +19,7 @@ import numpy as np
 import svgelements as se
 from defusedxml import DefusedXmlException
 
-from .sketch import Sketch, SketchError, Stroke
+from ..sketch import Sketch, SketchError, Stroke
 
 #: default sampling tolerance, as a fraction of the drawing's bounding-box diagonal
 RELATIVE_TOLERANCE = 5e-4

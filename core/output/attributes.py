@@ -13,8 +13,8 @@ from collections import Counter
 import numpy as np
 import shapely
 
-from .geometry import arc_lengths
-from .sketch import Stroke
+from ..arrays.geometry import arc_lengths
+from ..sketch import Stroke
 
 
 class NearestInk:

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import arc_lengths
-from .ragged import arc_lengths as ragged_arc_lengths
-from .ragged import end_to_end, split
+from ..arrays.geometry import arc_lengths
+from ..arrays.ragged import arc_lengths as ragged_arc_lengths
+from ..arrays.ragged import end_to_end, split
 
 
 def _basis(t: np.ndarray) -> np.ndarray:
@@ -26,15 +26,30 @@ def _basis(t: np.ndarray) -> np.ndarray:
     return basis
 
 
-def evaluate(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Points of one cubic (4, 2) at parameters t."""
+#: steps per cubic of the polyline sampled from each output stroke's Bezier curve: what
+#: the output's ``points`` hold, and what the add-on counts on to find the knots in them
+SAMPLES_PER_SEGMENT = 12
+
+
+def evaluate_bezier(ctrl: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Points of one cubic, (4, d) control points, at parameters t (any dimension d).
+
+    >>> evaluate_bezier(np.array([[0., 0], [1, 2], [2, 2], [3, 0]]), [0, 0.5, 1]).tolist()
+    [[0.0, 0.0], [1.5, 1.5], [3.0, 0.0]]
+    """
     return _basis(np.asarray(t, dtype=float)) @ ctrl
 
 
-def sample(curve: np.ndarray, per_segment: int = 16) -> np.ndarray:
-    """A polyline through a piecewise Bezier curve, ``per_segment`` steps per cubic."""
+def sample_bezier(curve: np.ndarray, per_segment: int = SAMPLES_PER_SEGMENT) -> np.ndarray:
+    """A polyline through a piecewise Bezier curve, (3k + 1, d) control points,
+    ``per_segment`` steps per cubic: point ``i * per_segment`` is knot ``i``.
+
+    >>> sample_bezier(np.array([[0., 0], [1, 0], [2, 0], [3, 0]]), 3).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]]
+    """
     t = np.linspace(0, 1, per_segment + 1)
-    segs = [evaluate(curve[i:i + 4], t if i == 0 else t[1:]) for i in range(0, len(curve) - 1, 3)]
+    segs = [evaluate_bezier(curve[i:i + 4], t if i == 0 else t[1:])
+            for i in range(0, len(curve) - 1, 3)]
     return np.concatenate(segs)
 
 

@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .components import group_means, tight_cluster_labels
-from .ragged import Polylines, arc_lengths, end_to_end, total_lengths
+from ..arrays.components import group_means, tight_cluster_labels
+from ..arrays.ragged import Polylines, arc_lengths, end_to_end, total_lengths
 
 
 @dataclass

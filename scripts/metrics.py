@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from .geometry import lines_from, resample_polyline
+from core.arrays.geometry import lines_from, resample_polyline
 
 
 def sample_points(polylines: list[np.ndarray], spacing: float) -> np.ndarray:

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .sketch import Sketch, SketchError, Stroke
+from ..sketch import Sketch, SketchError, Stroke
 
 
 def _numbers(text: str, where: str) -> list[float]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from .geometry import lines_from, split_coordinates
+from ..arrays.geometry import lines_from, split_coordinates
 
 #: snapping grid in the unit-diagonal frame: 1e-6 of the bounding-box diagonal
 GRID = 1e-6

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..arrays.geometry import resample_polyline
 from .curve_merge import sample_spacing
-from .geometry import resample_polyline
 
 
 class PatchCurves:

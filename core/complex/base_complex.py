@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from .components import component_labels
-from .geometry import polygons_from
+from ..arrays.components import component_labels
+from ..arrays.geometry import polygons_from
 from .noding import GRID, node_strokes
 
 #: a ring of a face: (curve id, True if walked from its first point to its last)

@@ -37,14 +37,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from .base_complex import BaseComplex
-from .complex_state import ComplexState, Merge
-from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
-from .fourier import curve_descriptors, fd_distance, fourier_descriptors
-from .geometry import lines_from
-from .guard import DistanceGuard, PatchCurves
-from .params import SimplifyParams
-from .patch_rings import (
+from ..arrays.geometry import lines_from
+from ..complex.base_complex import BaseComplex
+from ..complex.complex_state import ComplexState, Merge
+from ..complex.patch_rings import (
     Outline,
     RingGeometry,
     half_edges,
@@ -52,6 +48,10 @@ from .patch_rings import (
     union_outline_points,
     union_rings,
 )
+from ..params import SimplifyParams
+from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
+from .fourier import curve_descriptors, fd_distance, fourier_descriptors
+from .guard import DistanceGuard, PatchCurves
 
 INF = math.inf
 #: stale pairs with a patch (patch-patch, curve-patch) are keyed by this fraction of the

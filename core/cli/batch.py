@@ -6,10 +6,10 @@ import json
 import time
 from pathlib import Path
 
-from .io import read_sketch, write_sketch
-from .parallel import simplify_all
-from .params import SimplifyParams
-from .sketch import Sketch, SketchError
+from ..io.files import read_sketch, write_sketch
+from ..parallel import simplify_all
+from ..params import SimplifyParams
+from ..sketch import Sketch, SketchError
 
 
 def batch(in_dir: Path, out_dir: Path, params: SimplifyParams, jobs: int,

@@ -6,7 +6,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .sketch import Sketch, SketchError, Stroke
+from ..sketch import Sketch, SketchError, Stroke
 
 
 @dataclass

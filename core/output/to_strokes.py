@@ -28,15 +28,15 @@ from itertools import islice
 import numpy as np
 import shapely
 
-from .bezier import corner_indices, fit_beziers, sample
-from .complex_state import ComplexState
-from .components import component_labels, group_means, wider_than
-from .curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
-from .fourier import curve_descriptors, fd_distance
-from .geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
-from .noding import GRID
-from .params import SimplifyParams
-from .ragged import total_lengths
+from ..arrays.components import component_labels, group_means, wider_than
+from ..arrays.geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
+from ..arrays.ragged import total_lengths
+from ..complex.complex_state import ComplexState
+from ..complex.noding import GRID
+from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
+from ..merge.fourier import curve_descriptors, fd_distance
+from ..params import SimplifyParams
+from .bezier import SAMPLES_PER_SEGMENT, corner_indices, fit_beziers, sample_bezier
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
 
@@ -434,5 +434,6 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     if todo:  # fitted together
         made = fit_beziers([pts for _, (pts, _) in todo], params.fit_error * d_eps,
                            params.corner_angle, [closed for _, (_, closed) in todo])
-        fits.update((key, (bezier, sample(bezier, 12))) for (key, _), bezier in zip(todo, made))
+        fits.update((key, (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT)))
+                    for (key, _), bezier in zip(todo, made))
     return [FittedStroke(fits[key][1], fits[key][0], closed) for key, _, closed in strokes]

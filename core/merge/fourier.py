@@ -17,8 +17,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import geometry
-from .ragged import Polylines, arc_lengths, end_to_end
+from ..arrays import geometry
+from ..arrays.ragged import Polylines, arc_lengths, end_to_end
 
 DEFAULT_SAMPLES = 256
 

@@ -6,9 +6,9 @@ import json
 import time
 from pathlib import Path
 
-from .base_complex import build_base_complex
-from .cleaning import clean_sketch, normalised_strokes
-from .io import read_sketch
+from ..complex.base_complex import build_base_complex
+from ..io.cleaning import clean_sketch, normalised_strokes
+from ..io.files import read_sketch
 
 
 def inspect_sketch(path: str | Path) -> dict:

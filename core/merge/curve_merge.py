@@ -23,7 +23,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 import shapely
 
-from .ragged import Polylines, arc_lengths, split, starts
+from ..arrays.ragged import Polylines, arc_lengths, split, starts
 
 #: fraction of the shorter curve that must lie beside the longer one
 MIN_OVERLAP = 0.5
