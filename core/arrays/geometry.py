@@ -25,6 +25,32 @@ def polygons_from(rings: list[np.ndarray]) -> np.ndarray:
     return shapely.polygons(shapely.linearrings(coords, indices=index))
 
 
+def shoelace_terms(curves: list[np.ndarray]) -> np.ndarray:
+    """Each polyline's term 1/2 sum(x_i y_i+1 - x_i+1 y_i) of the shoelace formula: the
+    signed area of a ring is the sum of the terms of the curves walked round it (minus a
+    curve's term where it is walked backwards).
+
+    >>> shoelace_terms([np.array([[0., 0], [1, 0], [1, 1]]), np.array([[1., 1], [0, 0]])])
+    array([0.5, 0. ])
+    """
+    counts = np.fromiter((len(c) for c in curves), dtype=np.intp, count=len(curves))
+    pts = np.concatenate(curves)
+    cross = pts[:-1, 0] * pts[1:, 1] - pts[1:, 0] * pts[:-1, 1]
+    owner = np.repeat(np.arange(len(curves)), counts)[:-1]
+    same = owner == np.repeat(np.arange(len(curves)), counts)[1:]
+    return 0.5 * np.bincount(owner[same], weights=cross[same], minlength=len(curves))
+
+
+def ring_is_counter_clockwise(points: np.ndarray) -> bool:
+    """Whether a closed ring (first point not repeated) has positive signed area.
+
+    >>> ring_is_counter_clockwise(np.array([[0., 0], [1, 0], [0, 1]]))
+    True
+    """
+    x, y = points[:, 0], points[:, 1]
+    return bool(x[:-1] @ y[1:] - x[1:] @ y[:-1] + x[-1] * y[0] - x[0] * y[-1] > 0)
+
+
 def split_coordinates(geoms: np.ndarray) -> list[np.ndarray]:
     """The coordinates of each geometry, as a list of (k, 2) arrays."""
     coords, index = shapely.get_coordinates(geoms, return_index=True)

@@ -19,7 +19,7 @@ import numpy as np
 import shapely
 
 from ..arrays.components import component_labels
-from ..arrays.geometry import polygons_from
+from ..arrays.geometry import polygons_from, shoelace_terms
 from .noding import GRID, node_strokes
 
 #: a ring of a face: (curve id, True if walked from its first point to its last)
@@ -93,16 +93,6 @@ class BaseComplex:
         return {"nodes": self.num_nodes, "curves": self.num_curves,
                 "patches": self.num_patches, "components": self.num_components,
                 "seconds": round(self.build_seconds, 6)}
-
-
-def _shoelace(curves: list[np.ndarray]) -> np.ndarray:
-    """Each curve's contribution 1/2 sum(x_i y_i+1 - x_i+1 y_i) to the area of a ring."""
-    counts = np.fromiter((len(c) for c in curves), dtype=np.intp, count=len(curves))
-    pts = np.concatenate(curves)
-    cross = pts[:-1, 0] * pts[1:, 1] - pts[1:, 0] * pts[:-1, 1]
-    owner = np.repeat(np.arange(len(curves)), counts)[:-1]
-    same = owner == np.repeat(np.arange(len(curves)), counts)[1:]
-    return 0.5 * np.bincount(owner[same], weights=cross[same], minlength=len(curves))
 
 
 def _next_half_edges(curves: list[np.ndarray], curve_nodes: np.ndarray) -> np.ndarray:
@@ -194,7 +184,7 @@ def build_base_complex(strokes: list[np.ndarray], grid: float = GRID) -> BaseCom
 
     nxt = _next_half_edges(curves, curve_nodes)
     face_of, cycles = _face_cycles(nxt)
-    area_of_curve = _shoelace(curves)
+    area_of_curve = shoelace_terms(curves)
     half_area = np.stack([area_of_curve, -area_of_curve], axis=1).ravel()
     face_area = np.bincount(face_of, weights=half_area, minlength=len(cycles))
 

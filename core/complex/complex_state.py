@@ -11,22 +11,33 @@ the other: it bounds nothing. Dangling curves inside a patch are free too.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 import numpy as np
 
 from .base_complex import BaseComplex
 
+__all__ = ["ComplexState", "Merge", "MergeKind"]
+
+
+class MergeKind(StrEnum):
+    """The three kinds of merge (paper 3.2.2); each compares equal to its two letters."""
+
+    PP = "PP"  #: two patches sharing a curve become one
+    CP = "CP"  #: a free curve touching a patch is merged away into the patch's outline
+    CC = "CC"  #: two free curves side by side or end to end become one curve
+
 
 @dataclass(frozen=True)
 class Merge:
-    """One applied merge. ``kind`` is "PP" (patch-patch), "CP" (curve-patch) or "CC".
+    """One applied merge, of a :class:`MergeKind`.
 
     PP: patches ``first`` and ``second`` became patch ``result``; the curves between them
     were removed. CP: curve ``first`` was merged away into patch ``second`` (``result``).
     CC: curves ``first`` and ``second`` became curve ``result`` with polyline ``points``.
     """
 
-    kind: str
+    kind: MergeKind
     cost: float
     first: int
     second: int
@@ -61,6 +72,10 @@ class ComplexState:
         self._num_curves, self._num_patches = n_curves, n_patches  # alive, kept up to date
 
     # -- queries ----------------------------------------------------------------------
+    def is_base_curve(self, curve: int) -> bool:
+        """Whether the curve is one of the base complex's (not made by a curve merge)."""
+        return curve < self.base.num_curves
+
     def is_free(self, curve: int) -> bool:
         a, b = self.curve_sides[curve]
         return a == b or (a < 0 and b < 0)
@@ -149,11 +164,11 @@ class ComplexState:
     def apply(self, merge: Merge) -> int:
         """Apply a recorded merge; returns the id of what it made (or kept)."""
         self.merges_applied += 1
-        if merge.kind == "PP":
+        if merge.kind == MergeKind.PP:
             return self.merge_patches(merge.first, merge.second)
-        if merge.kind == "CP":
+        if merge.kind == MergeKind.CP:
             self.remove_curve(merge.first)
             return merge.second
-        if merge.kind == "CC":
+        if merge.kind == MergeKind.CC:
             return self.merge_curves(merge.first, merge.second, merge.points)
         raise ValueError(f"unknown merge kind {merge.kind!r}")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..arrays.geometry import shoelace_terms
 from .base_complex import BaseComplex, Ring
 
 
@@ -28,9 +29,8 @@ class RingGeometry:
     def __init__(self, cx: BaseComplex) -> None:
         self.curves = cx.curves
         self.curve_nodes = cx.curve_nodes
-        cross = [0.5 * float((c[:-1, 0] * c[1:, 1] - c[1:, 0] * c[:-1, 1]).sum())
-                 for c in cx.curves]
-        self.half_area = np.repeat(np.array(cross), 2) * np.tile([1.0, -1.0], len(cross))
+        cross = shoelace_terms(cx.curves) if cx.curves else np.empty(0)
+        self.half_area = np.repeat(cross, 2) * np.tile([1.0, -1.0], len(cross))
         parts = [part for c in cx.curves for part in (c[:-1], c[:0:-1])]
         self.half_len = np.fromiter(map(len, parts), dtype=np.intp, count=len(parts))
         self.half_start = np.cumsum(self.half_len) - self.half_len
