@@ -14,7 +14,8 @@ from .complex.noding import more_crossings_than
 from .io.cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
 from .merge.agglomeration import AgglomerationStats, agglomerate
 from .output.attributes import NearestInk
-from .output.to_strokes import StrokeMemo, to_strokes
+from .output.memo import StrokeMemo
+from .output.to_strokes import to_strokes
 from .params import SimplifyParams
 from .sketch import Sketch, SketchError, Stroke
 
@@ -85,10 +86,11 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
     fitted = to_strokes(state, params, memo)
     t1 = time.perf_counter()
     strokes = []
-    for f, (width, pressure, style, ids) in zip(fitted, ink.transfer([f.points for f in fitted])):
-        strokes.append(Stroke(norm.from_unit(f.points), width=width, pressure=pressure,
-                              style=style, bezier=norm.from_unit(f.bezier), closed=f.closed,
-                              sources=ids))
+    for f, ink_of in zip(fitted, ink.transfer([f.points for f in fitted])):
+        strokes.append(Stroke(norm.from_unit(f.points), width=ink_of.width,
+                              pressure=ink_of.pressure, style=ink_of.style,
+                              bezier=norm.from_unit(f.bezier), closed=f.closed,
+                              sources=ink_of.sources))
     timings = {**timings, "strokes": t1 - t0, "attributes": time.perf_counter() - t1}
     nodes_after = len({n for c in state.alive_curves() for n in state.curve_nodes[c]})
     counts = {

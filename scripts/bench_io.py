@@ -22,7 +22,8 @@ import numpy as np  # noqa: E402
 from blender_scene import GP_DATA, load_extension  # noqa: E402
 
 load_extension()
-from sketchsimp.sketchsimp_addon.gp_io import NewStrokes, read_drawing, write_strokes  # noqa: E402
+from sketchsimp.sketchsimp_addon.drawing import NewStrokes  # noqa: E402
+from sketchsimp.sketchsimp_addon.gp_io import read_drawing, write_strokes  # noqa: E402
 
 
 def main() -> int:

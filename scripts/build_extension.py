@@ -21,6 +21,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: what the extension is made of; everything else in the repository stays out
 CONTENTS = ["blender_manifest.toml", "__init__.py", "core", "sketchsimp_addon", "wheels"]
+#: left out of those: the command line is an application of core, not part of the add-on
+LEFT_OUT = ["__pycache__", "*.pyc", "cli", "__main__.py"]
 
 
 def blender_ext_cli() -> Path:
@@ -70,8 +72,7 @@ def main() -> int:
         for name in CONTENTS:
             src = ROOT / name
             if src.is_dir():
-                shutil.copytree(src, stage / name,
-                                ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+                shutil.copytree(src, stage / name, ignore=shutil.ignore_patterns(*LEFT_OUT))
             else:
                 shutil.copy2(src, stage / name)
         subprocess.run([sys.executable, str(cli), "validate", str(stage)], check=True)

@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from core.arrays.geometry import lines_from, resample_polyline
+from core.arrays.geometry import lines_from
+from core.arrays.polylines import resample_polyline
 
 
 def sample_points(polylines: list[np.ndarray], spacing: float) -> np.ndarray:

@@ -1,27 +1,37 @@
 """Blender glue: reads Grease Pencil strokes into plain numpy data, runs ``core``, writes
-the result back. Only this package imports bpy; ``register``/``unregister`` may be called
-repeatedly (reloading the add-on)."""
+the result back. Only this package imports bpy, and only in the modules that talk to
+Blender (gp_io, curve_io, run, operators, panel, options): the package itself and its
+plain-data modules (drawing, convert) import without Blender, for tests.
+``register``/``unregister`` may be called repeatedly (reloading the add-on)."""
 
 from __future__ import annotations
 
-import bpy
+__all__ = ["register", "unregister"]
 
-from .operators import SKETCHSIMP_OT_simplify
-from .panel import SKETCHSIMP_PT_panel, SketchSimpSettings
 
-CLASSES = (SketchSimpSettings, SKETCHSIMP_OT_simplify, SKETCHSIMP_PT_panel)
+def _classes() -> tuple:
+    from .operators import SKETCHSIMP_OT_simplify
+    from .panel import SKETCHSIMP_PT_panel, SketchSimpSettings
+
+    return (SketchSimpSettings, SKETCHSIMP_OT_simplify, SKETCHSIMP_PT_panel)
 
 
 def register() -> None:
+    import bpy
+
+    from .panel import SketchSimpSettings
+
     unregister()  # registering again (a reload) replaces what is there
-    for cls in CLASSES:
+    for cls in _classes():
         bpy.utils.register_class(cls)
     bpy.types.Scene.sketchsimp = bpy.props.PointerProperty(type=SketchSimpSettings)
 
 
 def unregister() -> None:
+    import bpy
+
     if hasattr(bpy.types.Scene, "sketchsimp"):
         del bpy.types.Scene.sketchsimp
-    for cls in reversed(CLASSES):
+    for cls in reversed(_classes()):
         if cls.is_registered:
             bpy.utils.unregister_class(cls)

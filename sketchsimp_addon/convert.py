@@ -14,12 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import Sketch, Stroke
-from ..core.sketch import SketchError
-from .gp_io import DrawingData, NewStrokes
+from ..core import SAMPLES_PER_SEGMENT, Sketch, SketchError, Stroke
+from .drawing import DrawingData, NewStrokes
 
-#: Bezier segments are sampled this finely by the core (see core.to_strokes)
-SAMPLES_PER_SEGMENT = 12
+__all__ = ["Plane", "drawing_from_polylines", "drawing_plane", "to_new_strokes", "to_sketch"]
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,8 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from ..core import sample_bezier
+
 FREE = 0  # handle type, as foreach_set takes it
 
 
@@ -22,17 +24,14 @@ def _bezier_polyline(spline, resolution: int) -> np.ndarray:
     bp.foreach_get("handle_left", left)
     bp.foreach_get("handle_right", right)
     co, left, right = co.reshape(-1, 3), left.reshape(-1, 3), right.reshape(-1, 3)
-    idx = np.arange(n)
-    nxt = (idx + 1) % n
-    segs = idx if spline.use_cyclic_u else idx[:-1]
-    if len(segs) == 0:
+    if n < 2:
         return co
-    t = np.linspace(0, 1, resolution + 1)[:-1, None, None]
-    p0, p1, p2, p3 = co[segs], right[segs], left[nxt[segs]], co[nxt[segs]]
-    pts = ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * p1 + 3 * (1 - t) * t ** 2 * p2
-           + t ** 3 * p3)  # (resolution, segments, 3)
-    pts = pts.transpose(1, 0, 2).reshape(-1, 3)
-    return np.concatenate([pts, co[nxt[segs[-1:]]]])
+    # control points knot, right handle, next knot's left handle, next knot, ... round to
+    # the first knot again when cyclic
+    order = np.arange(n + 1) % n if spline.use_cyclic_u else np.arange(n)
+    ctrl = np.empty((3 * (len(order) - 1) + 1, 3))
+    ctrl[0::3], ctrl[1::3], ctrl[2::3] = co[order], right[order[:-1]], left[order[1:]]
+    return sample_bezier(ctrl, resolution)
 
 
 def read_curve(obj) -> tuple[list[np.ndarray], list[bool], int]:

@@ -1,4 +1,5 @@
-"""Reading and writing Grease Pencil v3 drawings in bulk, as plain numpy arrays.
+"""Reading and writing Grease Pencil v3 drawings in bulk, as plain numpy arrays
+(:mod:`sketchsimp_addon.drawing`).
 
 Every attribute moves with one ``foreach_get``/``foreach_set`` of the exact dtype Blender
 stores (float32, int32, int8, bool): no per-point Python. Attributes a drawing lacks read
@@ -8,10 +9,10 @@ strokes always get radius and opacity, since new attributes start at zero (invis
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import bpy
 import numpy as np
+
+from .drawing import DrawingData, NewStrokes
 
 #: Blender's defaults for a stroke attribute the drawing does not have
 DEFAULTS = {"radius": 0.01, "opacity": 1.0, "material_index": 0, "cyclic": False}
@@ -23,28 +24,6 @@ def grease_pencil_data():
     """The Grease Pencil v3 ID collection: ``grease_pencils_v3`` on 4.3-4.5, else 5.0+."""
     return bpy.data.grease_pencils_v3 if hasattr(bpy.data, "grease_pencils_v3") \
         else bpy.data.grease_pencils
-
-
-@dataclass
-class DrawingData:
-    """The strokes of one drawing: points of stroke k are ``offsets[k]:offsets[k + 1]``."""
-
-    positions: np.ndarray  # (N, 3) float32, layer space
-    offsets: np.ndarray  # (S + 1,) int32
-    radius: np.ndarray  # (N,) float32
-    opacity: np.ndarray  # (N,) float32
-    vertex_color: np.ndarray | None  # (N, 4) float32
-    material_index: np.ndarray  # (S,) int32
-    cyclic: np.ndarray  # (S,) bool
-    selected: np.ndarray  # (S,) bool
-    curve_type: np.ndarray  # (S,) int8
-
-    @property
-    def num_strokes(self) -> int:
-        return len(self.offsets) - 1
-
-    def stroke_slices(self) -> list[slice]:
-        return [slice(int(a), int(b)) for a, b in zip(self.offsets[:-1], self.offsets[1:])]
 
 
 def _get(attrs, name: str, n: int, dtype, key: str, width: int = 1):
@@ -97,20 +76,6 @@ def read_drawing(drawing) -> DrawingData:
 def _ensure(attrs, name: str, kind: str, domain: str):
     attr = attrs.get(name)
     return attr if attr is not None else attrs.new(name, kind, domain)
-
-
-@dataclass
-class NewStrokes:
-    """Strokes to add: Bezier knots with their handles, and per-knot attributes."""
-
-    knots: list[np.ndarray]  # (k, 3) float32 each
-    handles_left: list[np.ndarray]
-    handles_right: list[np.ndarray]
-    radius: list[np.ndarray]
-    opacity: list[np.ndarray]
-    vertex_color: list[np.ndarray] | None
-    material_index: np.ndarray  # (S,) int32
-    cyclic: np.ndarray  # (S,) bool
 
 
 def write_strokes(drawing, new: NewStrokes) -> None:

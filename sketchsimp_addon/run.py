@@ -14,7 +14,8 @@ import numpy as np
 from ..core import ReplayCache, SimplifyParams, SketchError, default_jobs, simplify, simplify_all
 from .convert import drawing_from_polylines, drawing_plane, to_new_strokes, to_sketch
 from .curve_io import new_curve_object, read_curve, write_bezier_splines
-from .gp_io import NewStrokes, grease_pencil_data, read_drawing, write_strokes
+from .drawing import NewStrokes
+from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 
 @dataclass

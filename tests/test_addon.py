@@ -160,6 +160,11 @@ def test_extension_package_installs_and_runs(tmp_path):
     arch = "arm64" if platform.machine() in ("aarch64", "arm64") else "x64"
     package = tmp_path / "dist" / f"sketchsimp-0.1.0-linux_{arch}.zip"
     assert package.exists()
+    import zipfile
+
+    names = zipfile.ZipFile(package).namelist()
+    assert "core/simplify.py" in names and "core/merge/agglomeration.py" in names
+    assert not [n for n in names if n.startswith("core/cli/") or n == "core/__main__.py"]
     env = {**os.environ, "BLENDER_USER_RESOURCES": str(tmp_path / "user"),
            "XDG_CACHE_HOME": str(tmp_path / "cache")}
     run = subprocess.run([sys.executable, str(ROOT / "tests" / "installed_extension.py"),

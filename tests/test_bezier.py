@@ -7,7 +7,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from core.arrays.geometry import resample_polyline
+from core.arrays.polylines import resample_polyline
 from core.output.bezier import corner_indices, fit_bezier, fit_beziers, sample_bezier
 
 

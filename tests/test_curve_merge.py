@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.arrays.geometry import arc_lengths, resample_polyline
+from core.arrays.polylines import arc_lengths, resample_polyline
 from core.merge.curve_merge import SampledCurve, pair_and_merge, pair_and_merge_many, sample_spacing
 
 D_EPS = 0.012

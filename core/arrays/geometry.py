@@ -1,4 +1,5 @@
-"""Small vectorised helpers between ragged lists of polylines and shapely geometry arrays."""
+"""Small vectorised helpers between lists of polylines and shapely geometry arrays, and
+the shoelace formula for ring areas."""
 
 from __future__ import annotations
 
@@ -56,32 +57,3 @@ def split_coordinates(geoms: np.ndarray) -> list[np.ndarray]:
     coords, index = shapely.get_coordinates(geoms, return_index=True)
     cuts = np.flatnonzero(np.diff(index)) + 1
     return np.split(coords, cuts) if len(coords) else []
-
-
-def arc_lengths(points: np.ndarray) -> np.ndarray:
-    """Cumulative arc length at each point, starting at 0."""
-    d = points[1:] - points[:-1]
-    s = np.empty(len(points))
-    s[0] = 0.0
-    np.cumsum(np.hypot(d[:, 0], d[:, 1]), out=s[1:])
-    return s
-
-
-def resample_polyline(points: np.ndarray, spacing: float) -> np.ndarray:
-    """Points evenly spaced by arc length (at most ``spacing`` apart), ends kept; a closed
-    polyline keeps at least four, so that it stays a loop however short."""
-    s = arc_lengths(points)
-    closed = len(points) > 2 and points[0, 0] == points[-1, 0] and points[0, 1] == points[-1, 1]
-    n = max(4 if closed else 2, int(np.ceil(s[-1] / spacing)) + 1)
-    t = np.arange(n) * (s[-1] / (n - 1))
-    t[-1] = s[-1]
-    return points_at(t, s, points)
-
-
-def points_at(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The polyline ``points``, whose arc length at each point is ``s``, at arc lengths
-    ``t`` (linear between its points)."""
-    out = np.empty((len(t), 2))
-    out[:, 0] = np.interp(t, s, points[:, 0])
-    out[:, 1] = np.interp(t, s, points[:, 1])
-    return out

@@ -1,11 +1,13 @@
-"""Command line.
+"""Command line: a thin layer over the library, with argparse subcommands.
 
-    python -m core INPUT -o OUTPUT.svg [--epsilon E] [--stats STATS.json]
+    python -m core [simplify] INPUT -o OUTPUT.svg [--epsilon E] [--alpha A] [--stats S.json]
     python -m core inspect SKETCH [SKETCH ...] [--json]
     python -m core batch IN_DIR OUT_DIR [--jobs N] [--epsilon E] [--scap] [--summary S.json]
 
 INPUT is .svg or .scap; OUTPUT is .svg (one <path> per output stroke) or .scap, in the
-input's coordinates. Errors print one line and exit with status 1 (2 for bad usage).
+input's coordinates. ``simplify`` is the subcommand taken when none is named. Defaults are
+:class:`core.params.SimplifyParams`'s own. Errors print one line and exit with status 1
+(2 for bad usage).
 """
 
 from __future__ import annotations
@@ -15,59 +17,61 @@ import json
 import sys
 from pathlib import Path
 
+from ..io.files import read_sketch, write_sketch
+from ..parallel import default_jobs
+from ..params import SimplifyParams
+from ..simplify import simplify
 from ..sketch import SketchError
+from .batch import batch
+from .inspection import run as run_inspect
+
+__all__ = ["main", "parser"]
+
+COMMANDS = ("simplify", "inspect", "batch")
 
 
-def inspect_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m core inspect",
-                                description="Print the base complex of sketch files.")
-    p.add_argument("sketch", nargs="+", help=".svg or .scap file(s)")
-    p.add_argument("--json", action="store_true", help="print JSON instead of a table")
-    return p
-
-
-def simplify_parser() -> argparse.ArgumentParser:
-    from ..params import SimplifyParams
-
+def parser() -> argparse.ArgumentParser:
     d = SimplifyParams()
-    p = argparse.ArgumentParser(
+    top = argparse.ArgumentParser(
         prog="python -m core",
-        description="Simplify a rough sketch into few long smooth strokes "
-                    "(subcommand: 'inspect SKETCH' prints its base complex).")
-    p.add_argument("input", help="rough sketch, .svg or .scap")
-    p.add_argument("-o", "--output", required=True, help="where to write, .svg or .scap")
-    p.add_argument("--epsilon", type=float, default=d.epsilon,
-                   help=f"how far to simplify: largest shape change merged (default {d.epsilon})")
-    p.add_argument("--alpha", type=float, default=d.alpha,
-                   help=f"stroke bundle width as a fraction of the diagonal (default {d.alpha})")
-    p.add_argument("--samples", type=int, default=d.samples,
-                   help=f"Fourier descriptor samples N (default {d.samples})")
-    p.add_argument("--stats", help="write counts and timings to this JSON file")
-    return p
+        description="Simplify rough sketches into few long smooth strokes.")
+    sub = top.add_subparsers(dest="command", required=True, metavar="{simplify,inspect,batch}")
+
+    one = sub.add_parser("simplify", help="simplify one sketch (the default subcommand)")
+    one.add_argument("input", help="rough sketch, .svg or .scap")
+    one.add_argument("-o", "--output", required=True, help="where to write, .svg or .scap")
+    one.add_argument("--epsilon", type=float, default=d.epsilon,
+                     help="how far to simplify: largest shape change merged (default "
+                          "%(default)s)")
+    one.add_argument("--alpha", type=float, default=d.alpha,
+                     help="stroke bundle width as a fraction of the diagonal (default "
+                          "%(default)s)")
+    one.add_argument("--samples", type=int, default=d.samples,
+                     help="Fourier descriptor samples N (default %(default)s)")
+    one.add_argument("--stats", help="write counts and timings to this JSON file")
+    one.set_defaults(run=run_simplify)
+
+    look = sub.add_parser("inspect", help="print the base complex of sketch files")
+    look.add_argument("sketch", nargs="+", help=".svg or .scap file(s)")
+    look.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    look.set_defaults(run=lambda args: run_inspect(args.sketch, args.json))
+
+    many = sub.add_parser("batch", help="simplify every .svg/.scap sketch in a folder")
+    many.add_argument("in_dir", type=Path, help="folder of .svg/.scap sketches")
+    many.add_argument("out_dir", type=Path, help="folder for the results (made if missing)")
+    many.add_argument("--jobs", type=int, default=default_jobs(),
+                      help="worker processes (default: every core)")
+    many.add_argument("--epsilon", type=float, default=d.epsilon,
+                      help="how far to simplify (default %(default)s)")
+    many.add_argument("--scap", action="store_true", help="write .scap instead of .svg")
+    many.add_argument("--summary", type=Path, help="write counts and seconds to this JSON file")
+    many.set_defaults(run=lambda args: batch(
+        args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon), args.jobs,
+        ".scap" if args.scap else ".svg", args.summary))
+    return top
 
 
-def batch_parser() -> argparse.ArgumentParser:
-    from ..parallel import default_jobs
-    from ..params import SimplifyParams
-
-    p = argparse.ArgumentParser(prog="python -m core batch",
-                                description="Simplify every .svg/.scap sketch in a folder.")
-    p.add_argument("in_dir", type=Path, help="folder of .svg/.scap sketches")
-    p.add_argument("out_dir", type=Path, help="folder for the results (made if missing)")
-    p.add_argument("--jobs", type=int, default=default_jobs(),
-                   help="worker processes (default: every core)")
-    p.add_argument("--epsilon", type=float, default=SimplifyParams().epsilon,
-                   help="how far to simplify (default %(default)s)")
-    p.add_argument("--scap", action="store_true", help="write .scap instead of .svg")
-    p.add_argument("--summary", type=Path, help="write counts and seconds to this JSON file")
-    return p
-
-
-def run_simplify(args: argparse.Namespace) -> None:
-    from ..io.files import read_sketch, write_sketch
-    from ..params import SimplifyParams
-    from ..simplify import simplify
-
+def run_simplify(args: argparse.Namespace) -> int:
     out = Path(args.output)
     if out.suffix.lower() not in (".svg", ".scap"):
         raise SketchError(f"{out}: unknown output format {out.suffix!r} (use .svg or .scap)")
@@ -83,31 +87,20 @@ def run_simplify(args: argparse.Namespace) -> None:
                  "merges": len(result.history),
                  "timings": {k: round(v, 6) for k, v in result.timings.items()}}
         Path(args.stats).write_text(json.dumps(stats, indent=2))
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
+    """Run the command line; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] not in COMMANDS and argv[0] not in ("-h", "--help"):
+        argv.insert(0, "simplify")  # python -m core INPUT -o OUTPUT
+    args = parser().parse_args(argv)
     try:
-        if argv and argv[0] == "inspect":
-            from .inspection import run
-            args = inspect_parser().parse_args(argv[1:])
-            run(args.sketch, args.json)
-        elif argv and argv[0] == "batch":
-            from ..params import SimplifyParams
-            from .batch import batch
-            args = batch_parser().parse_args(argv[1:])
-            return batch(args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon),
-                         args.jobs, ".scap" if args.scap else ".svg", args.summary)
-        else:
-            run_simplify(simplify_parser().parse_args(argv))
-        return 0
+        return args.run(args) or 0
     except SketchError as exc:
         print(f"python -m core: {exc}", file=sys.stderr)
         return 1
     except OSError as exc:
         print(f"python -m core: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
         return 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())

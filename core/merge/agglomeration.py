@@ -27,7 +27,7 @@ Invariant: the run is deterministic and eps-independent up to its stop (the firs
 cost not below epsilon: so epsilon = 0 merges nothing), and the history of one run with
 epsilon replays, cut at the first cost not below epsilon2, exactly to the run with
 epsilon2. That needs every cost to depend on its pair alone, whatever batch it was costed
-in (:mod:`core.arrays.ragged`).
+in (:mod:`core.arrays.polylines`).
 """
 
 from __future__ import annotations

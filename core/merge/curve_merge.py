@@ -23,7 +23,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 import shapely
 
-from ..arrays.ragged import Polylines, arc_lengths, split, starts
+from ..arrays.polylines import Polylines, arc_lengths, resample_polylines, split, starts
 
 #: fraction of the shorter curve that must lie beside the longer one
 MIN_OVERLAP = 0.5
@@ -47,14 +47,15 @@ class SampledCurve:
     @classmethod
     def many(cls, polylines: list[np.ndarray], spacing: float | None = None
              ) -> list[SampledCurve]:
-        """Polylines resampled evenly at ``spacing`` as by :func:`resample_polyline` (or
-        already resampled: None), all at once."""
+        """Polylines resampled evenly at ``spacing`` (as by
+        :func:`core.arrays.polylines.resample_polyline`; None: already resampled), all at
+        once."""
         if not polylines:
             return []
         sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
         points = np.concatenate(polylines)
         if spacing is not None:
-            points, sizes = _resample_all(points, sizes, spacing)
+            points, sizes = resample_polylines(points, sizes, spacing)
         first = starts(sizes)
         last = first + sizes - 1
         s = arc_lengths(points, first, last)
@@ -114,24 +115,6 @@ def _probe_index(n: int) -> np.ndarray:
 def _smoothstep(x: np.ndarray) -> np.ndarray:
     x = np.minimum(np.maximum(x, 0.0), 1.0)
     return x * x * (3 - 2 * x)
-
-
-def _resample_all(points: np.ndarray, sizes: np.ndarray, spacing: float
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """Consecutive polylines each resampled as by :func:`resample_polyline`; the points of
-    all and the new sizes."""
-    first = starts(sizes)
-    last = first + sizes - 1
-    s = arc_lengths(points, first, last)
-    length = s[last]
-    closed = (sizes > 2) & (points[first] == points[last]).all(axis=1)
-    n = np.maximum(np.where(closed, 4, 2), np.ceil(length / spacing).astype(np.intp) + 1)
-    lines = Polylines.of_flat(s, points, first, last)
-    which = np.repeat(np.arange(len(n)), n)
-    start = starts(n)
-    t = (np.arange(len(which)) - start[which]) * (length / (n - 1))[which]
-    t[start + n - 1] = length
-    return lines.at(which, t), n
 
 
 def _project(bases: list[SampledCurve], curves: list[SampledCurve]

@@ -5,7 +5,7 @@ R(t) is transformed with the FFT; the descriptor is |a_1..a_N/2| / |a_0|. Two sh
 by the Euclidean distance of their descriptors. Magnitudes make it independent of the start
 point and rotation, the centroid of translation, and dividing by |a_0| of scale.
 
-Many rings are resampled at once, laid end to end (:mod:`core.ragged`), and transformed
+Many rings are resampled at once, laid end to end (:mod:`core.arrays.polylines`), and transformed
 with one FFT: the merge loop costs many pairs in a batch.
 
 A curve is described as the slender ring p0 .. p_n-1, p_n-2 .. p1 (walked there and back).
@@ -17,8 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..arrays import geometry
-from ..arrays.ragged import Polylines, arc_lengths, end_to_end
+from ..arrays.polylines import Polylines, arc_lengths, end_to_end, points_at
 
 DEFAULT_SAMPLES = 256
 
@@ -42,12 +41,10 @@ def resample_rings(rings: list[np.ndarray], n: int) -> np.ndarray:
 
 def _sample_end_to_end(lines: list[np.ndarray], n: int, where) -> np.ndarray:
     """Samples of many polylines at arc positions ``where(k / n, length)``, k < n, laid
-    end to end (:mod:`core.ragged`: the same to the bit as for each line alone)."""
+    end to end (:mod:`core.arrays.polylines`: the same to the bit as for each line alone)."""
     if len(lines) == 1:  # the merge loop's usual case: np.interp on the line itself
-        line = lines[0]
-        s = geometry.arc_lengths(line)
-        t = where(_fractions(n), s[-1])
-        return np.stack([np.interp(t, s, line[:, 0]), np.interp(t, s, line[:, 1])], axis=1)[None]
+        s = arc_lengths(lines[0])
+        return points_at(where(_fractions(n), s[-1]), s, lines[0])[None]
     points, first, last = end_to_end(lines)
     s = arc_lengths(points, first, last)
     t = where(_fractions(n), s[last][:, None]).ravel()

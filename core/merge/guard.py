@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..arrays.geometry import resample_polyline
+from ..arrays.polylines import resample_polyline
 from .curve_merge import sample_spacing
 
 

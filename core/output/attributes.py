@@ -9,12 +9,32 @@ per-point values of every input stroke sit in one array, indexed by a running ar
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
-from ..arrays.geometry import arc_lengths
+from ..arrays.polylines import arc_lengths
 from ..sketch import Stroke
+from .memo import LruStore
+
+__all__ = ["Carried", "NearestInk"]
+
+
+@dataclass(frozen=True)
+class Carried:
+    """What an output polyline takes from the nearest ink."""
+
+    width: np.ndarray | None  #: per point
+    pressure: np.ndarray | None  #: per point
+    style: str | None  #: the most common style of the nearest input strokes
+    sources: tuple[int, ...]  #: ids of the input strokes nearest to its points
+
+    def copy(self) -> Carried:
+        """With its own per-point arrays (a kept one is not handed out to be changed)."""
+        return Carried(None if self.width is None else self.width.copy(),
+                       None if self.pressure is None else self.pressure.copy(),
+                       self.style, self.sources)
 
 
 class NearestInk:
@@ -42,7 +62,8 @@ class NearestInk:
         self.tree = shapely.STRtree(self.segments)
         self.values = {name: self._stack(name) for name in ("width", "pressure")}
         # what each output polyline took, by content: a slider's replays share most strokes
-        self._taken: dict[bytes, tuple] = {}
+        # (bounded, and a value depends on its key alone: see core.output.memo)
+        self._taken: LruStore[bytes, Carried] = LruStore()
 
     def _stack(self, name: str) -> np.ndarray | None:
         arrays = [getattr(st, name) for st in self.strokes]
@@ -63,21 +84,22 @@ class NearestInk:
             nearest[rest[i]] = k
         return nearest
 
-    def transfer(self, strokes: list[np.ndarray]) -> list[tuple]:
+    def transfer(self, strokes: list[np.ndarray]) -> list[Carried]:
         """For each polyline: width and pressure per point, style, ids of the input strokes.
 
         One nearest-neighbour query serves all polylines not seen before at once.
         """
         keys = [p.tobytes() for p in strokes]
-        todo = list({key: p for key, p in zip(keys, strokes) if key not in self._taken}.items())
-        if todo:
-            self._taken.update(zip([key for key, _ in todo],
-                                   self._transfer([p for _, p in todo])))
-        # the per-point arrays copied: the memo's own are not handed out to be changed
-        return [tuple(x.copy() if isinstance(x, np.ndarray) else x for x in self._taken[key])
-                for key in keys]
+        found = {key: self._taken.get(key) for key in keys if key in self._taken}
+        todo = list({key: p for key, p in zip(keys, strokes) if key not in found}.items())
+        for (key, _), carried in zip(todo, self._transfer([p for _, p in todo])):
+            found[key] = carried
+            self._taken.put(key, carried)
+        return [found[key].copy() for key in keys]
 
-    def _transfer(self, strokes: list[np.ndarray]) -> list[tuple]:
+    def _transfer(self, strokes: list[np.ndarray]) -> list[Carried]:
+        if not strokes:
+            return []
         counts = [len(p) for p in strokes]
         geoms = shapely.points(np.concatenate(strokes))
         segment = self._nearest(geoms)
@@ -100,6 +122,6 @@ class NearestInk:
                                 is not None else i for i in used}))
             styles = Counter(self.strokes[i].style for i in near.tolist()
                              if self.strokes[i].style is not None)
-            out.append((per_point[0], per_point[1],
-                        styles.most_common(1)[0][0] if styles else None, ids))
+            out.append(Carried(per_point[0], per_point[1],
+                               styles.most_common(1)[0][0] if styles else None, ids))
         return out

@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arrays.geometry import arc_lengths
-from ..arrays.ragged import arc_lengths as ragged_arc_lengths
-from ..arrays.ragged import end_to_end, split
+from ..arrays.polylines import arc_lengths, end_to_end, split
 
 
 def _basis(t: np.ndarray) -> np.ndarray:
@@ -157,7 +155,7 @@ def _fit_once(pieces: list[np.ndarray], t0: np.ndarray, t1: np.ndarray, tol: flo
     pts, first, last = end_to_end(pieces)
     sizes = last - first + 1
     which = np.repeat(np.arange(len(pieces)), sizes)
-    s = ragged_arc_lengths(pts, first, last)
+    s = arc_lengths(pts, first, last)
     arc = s[last]
     # by arc length, or evenly where a piece has no length
     u = np.where((arc > 0)[which], s / np.where(arc > 0, arc, 1.0)[which],

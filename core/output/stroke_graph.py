@@ -7,20 +7,30 @@ within ``snap`` of the next is cut into such groups, so that no end moves far.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..arrays.components import group_means, tight_cluster_labels
-from ..arrays.ragged import Polylines, arc_lengths, end_to_end, total_lengths
+from ..arrays.polylines import Polylines, arc_lengths, end_to_end, total_lengths
+
+__all__ = ["Edge", "StrokeGraph", "build_graph", "end_directions", "rebuild"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class Edge:
+    """A polyline of the output stage. Never changed: moving its ends makes a new one."""
+
     points: np.ndarray
     perimeter: float = np.inf  # of the smallest patch it bounds (inf: bounds none)
     free: bool = False  # bounds no patch
     closed: bool = False  # a loop: its ends are one point
+
+    def with_ends(self, first: np.ndarray, last: np.ndarray) -> Edge:
+        """The same edge with its end points moved to ``first`` and ``last``."""
+        pts = self.points.copy()
+        pts[0], pts[-1] = first, last
+        return replace(self, points=pts)
 
 
 @dataclass
@@ -45,10 +55,8 @@ def build_graph(edges: list[Edge], snap: float) -> StrokeGraph:
     ends = np.array([[e.points[0], e.points[-1]] for e in edges]).reshape(-1, 2)
     labels = tight_cluster_labels(ends, snap)
     nodes = group_means(ends, labels)
-    for k, e in enumerate(edges):
-        pts = e.points.copy()
-        pts[0], pts[-1] = nodes[labels[2 * k]], nodes[labels[2 * k + 1]]
-        e.points = pts
+    edges = [e.with_ends(nodes[labels[2 * k]], nodes[labels[2 * k + 1]])
+             for k, e in enumerate(edges)]
     graph = StrokeGraph(edges, labels.reshape(-1, 2), nodes)
     # a short edge whose ends snapped together is a crumb between two near crossings
     crumb = (graph.ends[:, 0] == graph.ends[:, 1]) & (graph.lengths() < 4 * snap)

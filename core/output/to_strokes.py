@@ -4,7 +4,7 @@
    nodes of degree 2 and cut at hairpin turns (the tips of slender patches).
 2. Bi-edges: curves that still run side by side (the two long sides of a slender border
    patch, or a free curve along an outline) are merged by the curve-curve operator again,
-   while the merge costs less than epsilon.
+   while the merge costs less than epsilon (:mod:`core.output.bi_edges`).
 3. A graph of the edges, split where merged curves cross; overshoots past a corner or a
    crossing (short edges hanging off a junction that run straight on from a longer edge
    there) are trimmed, short details meeting a line at an angle are kept.
@@ -21,52 +21,33 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
-from itertools import islice
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
 from ..arrays.components import component_labels, group_means, wider_than
-from ..arrays.geometry import arc_lengths, lines_from, resample_polyline, split_coordinates
-from ..arrays.ragged import total_lengths
+from ..arrays.geometry import lines_from, split_coordinates
+from ..arrays.polylines import arc_lengths, resample_polyline, total_lengths
 from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
-from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
-from ..merge.fourier import curve_descriptors, fd_distance
 from ..params import SimplifyParams
 from .bezier import SAMPLES_PER_SEGMENT, corner_indices, fit_beziers, sample_bezier
+from .bi_edges import merge_bi_edges
+from .memo import StrokeMemo, shape_key
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
+__all__ = ["FittedStroke", "contract_short_edges", "join_edges", "linework", "renode",
+           "split_at_tips", "to_strokes", "trim_spurs"]
 
-@dataclass
+
+@dataclass(frozen=True)
 class FittedStroke:
     """One output stroke in the unit frame."""
 
     points: np.ndarray  # sampled polyline of the Bezier
     bezier: np.ndarray  # (3k + 1, 2) control points
     closed: bool
-
-
-@dataclass
-class StrokeMemo:
-    """What the output stage worked out, by content: results replayed at other epsilons (a
-    slider) pass through states that share most edges and most pairs of edges."""
-
-    # Bezier fits by polyline: the control points and the polyline sampled from them
-    fits: dict[bytes, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
-    curves: dict[bytes, SampledCurve] = field(default_factory=dict)
-    descriptors: dict[bytes, np.ndarray] = field(default_factory=dict)
-    # side-by-side pairs (points and weights of both): their merged edge and its
-    # descriptor, or None when they do not pair
-    pairs: dict[tuple, tuple[np.ndarray, np.ndarray] | None] = field(default_factory=dict)
-    tips: dict[bytes, list[int]] = field(default_factory=dict)  # where chains are cut
-
-
-def _shape_key(points: np.ndarray, closed: bool) -> bytes:
-    """A polyline by content, open or closed, as the memo keys what is worked out of it."""
-    return points.tobytes() + (b"c" if closed else b"o")
 
 
 def linework(state: ComplexState) -> list[Edge]:
@@ -80,154 +61,6 @@ def linework(state: ComplexState) -> list[Edge]:
         sides = [perim[p] for p in state.curve_sides[c] if p >= 0 and not free]
         edges.append(Edge(state.curves[c], min(sides, default=np.inf), free))
     return edges
-
-
-def merge_bi_edges(edges: list[Edge], params: SimplifyParams,
-                   memo: StrokeMemo) -> list[Edge]:
-    """The second curve-curve pass: merge side-by-side edges whose merge costs < epsilon.
-
-    Candidate pairs (within d_eps; not two free curves, which agglomeration has judged;
-    with most of five points of the shorter edge within d_eps of the longer) are swept
-    closest first, by the mean distance of those points. Each pair stands for whatever its
-    edges have been merged into by then; a pair already merged into one is skipped, and
-    every pair of current edges is judged once: costed, and merged if it still pairs and
-    costs less than epsilon. Costed lazily this way, a dense cluster of k overlapping edges
-    costs about k merges, not the k * k pairs among them. ``memo`` keeps what was worked
-    out for other runs of the pass.
-    """
-    d_eps = params.alpha
-    pts = [e.points for e in edges]
-    if len(pts) < 2:
-        return edges
-    weights = [1.0] * len(pts)
-    free = [e.free for e in edges]
-    perimeter = [e.perimeter for e in edges]  # a merged edge bounds no one patch: inf
-    root = np.arange(2 * len(pts))  # the current edge each edge has been merged into
-
-    def curve(k: int) -> SampledCurve:
-        return memo.curves[pts[k].tobytes()]
-
-    def sample(edges: list[int]) -> None:
-        """Sample the edges not sampled yet, together."""
-        missing = list({pts[k].tobytes(): k for k in edges
-                        if pts[k].tobytes() not in memo.curves}.items())
-        memo.curves.update(zip([key for key, _ in missing], SampledCurve.many(
-            [pts[k] for _, k in missing], sample_spacing(d_eps))))
-
-    def fd(k: int) -> np.ndarray:
-        key = pts[k].tobytes()
-        if key not in memo.descriptors:
-            memo.descriptors[key] = curve_descriptors([pts[k]], params.samples)[0]
-        return memo.descriptors[key]
-
-    def key(a: int, b: int) -> tuple:
-        return (pts[a].tobytes(), weights[a], pts[b].tobytes(), weights[b])
-
-    def judge(pairs: list[tuple[int, int]]) -> None:
-        """Pair and merge these pairs of edges at once, into the memo, and describe the
-        merged edges and the edges of those that pair (to be costed) in one batch."""
-        sample([k for pair in pairs for k in pair])
-        found = pair_and_merge_many([(curve(a), weights[a], curve(b), weights[b])
-                                     for a, b in pairs], d_eps, params.angle, sides_only=True)
-        merged = [m for _, m in found if m is not None]
-        parts = list(dict.fromkeys(k for (a, b), (_, m) in zip(pairs, found) if m is not None
-                                   for k in (a, b) if pts[k].tobytes() not in memo.descriptors))
-        fds = curve_descriptors(merged + [pts[k] for k in parts], params.samples)
-        memo.descriptors.update((pts[k].tobytes(), row.copy())
-                                for k, row in zip(parts, fds[len(merged):]))
-        rows = iter(fds)
-        for (a, b), (_, m) in zip(pairs, found):
-            memo.pairs[key(a, b)] = None if m is None else (m, next(rows).copy())
-
-    lines = lines_from(pts)
-    # pairs whose boxes come within d_eps: the probes below keep only pairs running side
-    # by side, which are within d_eps, so GEOS need not measure every pair's distance
-    lo = shapely.bounds(lines)
-    i, j = shapely.STRtree(lines).query(shapely.box(*(lo[:, :2] - d_eps).T,
-                                                    *(lo[:, 2:] + d_eps).T))
-    keep = (i < j) & ~(np.array(free)[i] & np.array(free)[j])
-    i, j = i[keep], j[keep]
-    if len(i) == 0:
-        return edges
-    closeness, beside = _beside(lines, i, j, d_eps)
-    order = np.lexsort((j, i, closeness))
-    judged: dict[int, None] = {}  # pairs of current edges judged (and not merged), as keys
-    candidates = order[beside[order]]
-    for a, b, later in _unjudged(i[candidates], j[candidates], root, judged):
-        judged[a * len(root) + b] = None  # a merge replaces both: it never comes up again
-        if key(a, b) not in memo.pairs:  # judged with the next few in one batch
-            judge([(a, b)] + [p for p in later(LOOK_AHEAD) if key(*p) not in memo.pairs])
-        pair = memo.pairs[key(a, b)]
-        if pair is None:
-            continue
-        merged, new_fd = pair
-        if min(fd_distance(fd(a), new_fd), fd_distance(fd(b), new_fd)) >= params.epsilon:
-            continue
-        n = len(pts)
-        pts.append(merged)
-        memo.descriptors.setdefault(merged.tobytes(), new_fd)
-        weights.append(weights[a] + weights[b])
-        free.append(False)
-        perimeter.append(np.inf)
-        root[(root == a) | (root == b)] = n
-    return [Edge(pts[k], perimeter[k], free[k]) for k in range(len(pts)) if root[k] == k]
-
-
-def _unjudged(first: np.ndarray, second: np.ndarray, root: np.ndarray,
-              judged: dict[int, None], block: int = 4096
-              ) -> Iterator[tuple[int, int, Callable[[int], list[tuple[int, int]]]]]:
-    """The candidate pairs, in order, as pairs of the current edges they have been merged
-    into (smaller id first), leaving out those merged into one or judged before; with each,
-    a function giving up to k of the pairs that follow it, as they stand then.
-
-    ``root`` and ``judged`` (keys in the order judged) are read as the caller updates them
-    between pairs. A dense sketch has millions of candidates, most of them settled by
-    earlier merges: they are dropped a block at a time with array operations (the keys
-    judged so far kept sorted, added to as judged)."""
-    size = len(root)
-    done = np.empty(0, dtype=np.int64)  # judged keys, sorted, as of the last block
-
-    def current(u: int, v: int) -> tuple[int, int] | None:
-        a, b = sorted((int(root[u]), int(root[v])))
-        return (a, b) if a != b and a * size + b not in judged else None
-
-    for start in range(0, len(first), block):
-        x, y = first[start:start + block], second[start:start + block]
-        a, b = root[x], root[y]
-        keys = np.minimum(a, b).astype(np.int64) * size + np.maximum(a, b)
-        keep = a != b
-        if len(judged) > len(done):
-            done = np.union1d(done, np.fromiter(islice(judged, len(done), None), np.int64))
-        if len(done):
-            keep &= done[np.searchsorted(done, keys).clip(max=len(done) - 1)] != keys
-        xs, ys = x[keep].tolist(), y[keep].tolist()
-        for k, (u, v) in enumerate(zip(xs, ys)):
-            pair = current(u, v)
-            if pair is not None:
-                yield (*pair, lambda n, k=k, xs=xs, ys=ys: list(dict.fromkeys(filter(None, (
-                    current(u, v) for u, v in zip(xs[k + 1:k + 1 + n], ys[k + 1:k + 1 + n]))))))
-
-
-def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
-            chunk: int = 50_000) -> tuple[np.ndarray, np.ndarray]:
-    """For each pair (i, j): the mean distance of five points along the shorter line to the
-    longer, and whether at least two of them lie within d_eps (it runs along it).
-
-    The five points of each line are made once; pairs are measured in chunks, as a dense
-    drawing has millions of them."""
-    length = shapely.length(lines)
-    probes = shapely.line_interpolate_point(np.repeat(lines, 5),
-                                            np.tile(np.linspace(0, 1, 5), len(lines)),
-                                            normalized=True).reshape(-1, 5)
-    closeness, beside = np.empty(len(i)), np.empty(len(i), dtype=bool)
-    for k in range(0, len(i), chunk):
-        a, b = i[k:k + chunk], j[k:k + chunk]
-        first_shorter = length[a] <= length[b]
-        short, long_ = np.where(first_shorter, a, b), np.where(first_shorter, b, a)
-        dist = shapely.distance(probes[short], lines[long_][:, None])
-        closeness[k:k + chunk] = dist.mean(axis=1)
-        beside[k:k + chunk] = (dist <= d_eps).mean(axis=1) >= 0.4
-    return closeness, beside
 
 
 def renode(edges: list[Edge]) -> list[Edge]:
@@ -245,10 +78,6 @@ def renode(edges: list[Edge]) -> list[Edge]:
     return [Edge(pts, edges[k].perimeter, edges[k].free)
             for pts, k in zip(split_coordinates(pieces), owner.tolist())]
 
-
-#: pairs of edges judged in one batch in the bi-edge pass: the one needed and those coming
-#: next (the later ones are wasted when a merge before them changes their edges)
-LOOK_AHEAD = 32
 
 #: dangling edges up to this many d_eps long that run straight on from a longer edge
 #: through a junction are trimmed: overshoots past a corner or a crossing
@@ -311,13 +140,9 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
     root = component_labels(len(graph.nodes), graph.ends[short])
     centre = group_means(graph.nodes, root)
     ends = root[graph.ends]
-    for k, e in enumerate(graph.edges):
-        pts = e.points.copy()
-        pts[0], pts[-1] = centre[ends[k, 0]], centre[ends[k, 1]]
-        e.points = pts
-    graph.ends = ends
-    graph.nodes = centre
-    return rebuild(graph, ~short | (ends[:, 0] != ends[:, 1]))
+    moved = StrokeGraph([e.with_ends(centre[ends[k, 0]], centre[ends[k, 1]])
+                         for k, e in enumerate(graph.edges)], ends, centre)
+    return rebuild(moved, ~short | (ends[:, 0] != ends[:, 1]))
 
 
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True
@@ -394,14 +219,15 @@ def split_at_tips(chains: list[Edge], d_eps: float, memo: StrokeMemo) -> list[Ed
     out = []
     for e in chains:
         pts = e.points
-        key = _shape_key(pts, e.closed)
-        if key not in memo.tips:
+        key = shape_key(pts, e.closed)
+        cuts = memo.tips.get(key)
+        if cuts is None:
             cuts = corner_indices(pts, TIP_ANGLE, d_eps)
             if e.closed and not cuts:
                 far = int(np.argmax(np.hypot(*(pts - pts[0]).T)))
                 cuts = [far] if 0 < far < len(pts) - 1 else []
-            memo.tips[key] = cuts
-        bounds = [0, *memo.tips[key], len(pts) - 1]
+            memo.tips.put(key, cuts)
+        bounds = [0, *cuts, len(pts) - 1]
         out += [Edge(pts[i:j + 1], e.perimeter, e.free) for i, j in zip(bounds[:-1], bounds[1:])
                 if j > i]
     return out
@@ -416,7 +242,6 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     """
     d_eps = params.alpha
     snap = d_eps / 2
-    fits = memo.fits
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
     edges = merge_bi_edges(split_at_tips(chains, d_eps, memo), params, memo)
     graph = build_graph(renode(edges), snap)
@@ -429,11 +254,13 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
         pts = resample_polyline(stroke.points, d_eps / 4)
-        strokes.append((_shape_key(pts, stroke.closed), pts, stroke.closed))
+        strokes.append((shape_key(pts, stroke.closed), pts, stroke.closed))
+    fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
     if todo:  # fitted together
         made = fit_beziers([pts for _, (pts, _) in todo], params.fit_error * d_eps,
                            params.corner_angle, [closed for _, (_, closed) in todo])
-        fits.update((key, (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT)))
-                    for (key, _), bezier in zip(todo, made))
+        for (key, _), bezier in zip(todo, made):
+            fits[key] = (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT))
+            memo.fits.put(key, fits[key])
     return [FittedStroke(fits[key][1], fits[key][0], closed) for key, _, closed in strokes]

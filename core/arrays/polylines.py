@@ -1,4 +1,5 @@
-"""Many polylines at once: their points in one array, each run of them one polyline.
+"""Polylines as numpy arrays: arc lengths, sampling and resampling, of one polyline or of
+many at once, their points in one array, each run of them one polyline.
 
 The merge loop works on hundreds of small polylines at a time, where numpy's per-call cost
 outweighs the arithmetic; held in one array, most steps are a few calls for all of them.
@@ -46,17 +47,23 @@ def split(x: np.ndarray, sizes: np.ndarray) -> list[np.ndarray]:
     return [x[a:b] for a, b in zip([0] + ends[:-1], ends)]
 
 
-def arc_lengths(points: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray:
-    """Arc length along each polyline (points ``first[k]`` to ``last[k]``), from 0 at its
-    first point: :func:`core.geometry.arc_lengths` of each, to the bit."""
+def arc_lengths(points: np.ndarray, first: np.ndarray | None = None,
+                last: np.ndarray | None = None) -> np.ndarray:
+    """Cumulative arc length at each point, from 0 at the first point: of one polyline, or
+    along each of many laid end to end (points ``first[k]`` to ``last[k]``), each one to
+    the bit what it gives alone.
+
+    >>> arc_lengths(np.array([[0., 0], [3, 4], [3, 5]])).tolist()
+    [0.0, 5.0, 6.0]
+    """
     d = points[1:] - points[:-1]
     step = np.empty(len(points))
     step[0] = 0.0
     np.hypot(d[:, 0], d[:, 1], out=step[1:])
-    sizes = last - first + 1
-    if len(sizes) == 1:
+    if first is None or len(first) == 1:
         step[0] = 0.0
         return np.cumsum(step)
+    sizes = last - first + 1
     if len(sizes) * int(sizes.max()) <= 4 * len(points):
         return _running_sums(step, first, sizes)[0]
     # rows of very different lengths: padded in groups within a factor of two of each other
@@ -84,7 +91,7 @@ def _running_sums(step: np.ndarray, first: np.ndarray, sizes: np.ndarray
 
 
 def total_lengths(polylines: list[np.ndarray]) -> np.ndarray:
-    """The length of each polyline: ``core.geometry.arc_lengths(p)[-1]`` of each, to the bit."""
+    """The length of each polyline: ``arc_lengths(p)[-1]`` of each, to the bit."""
     if not polylines:
         return np.empty(0)
     points, first, last = end_to_end(polylines)
@@ -172,3 +179,41 @@ class Polylines:
         """Index (into the points of all) of the first point of polyline ``which[i]``
         (grouped by polyline) at or past arc length ``t[i]``, its last point if none is."""
         return np.minimum(self._search(which, t, "left"), self.last[which])
+
+
+def resample_polyline(points: np.ndarray, spacing: float) -> np.ndarray:
+    """Points evenly spaced by arc length (at most ``spacing`` apart), ends kept; a closed
+    polyline keeps at least four, so that it stays a loop however short."""
+    s = arc_lengths(points)
+    closed = len(points) > 2 and points[0, 0] == points[-1, 0] and points[0, 1] == points[-1, 1]
+    n = max(4 if closed else 2, int(np.ceil(s[-1] / spacing)) + 1)
+    t = np.arange(n) * (s[-1] / (n - 1))
+    t[-1] = s[-1]
+    return points_at(t, s, points)
+
+
+def points_at(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The polyline ``points``, whose arc length at each point is ``s``, at arc lengths
+    ``t`` (linear between its points)."""
+    out = np.empty((len(t), 2))
+    out[:, 0] = np.interp(t, s, points[:, 0])
+    out[:, 1] = np.interp(t, s, points[:, 1])
+    return out
+
+
+def resample_polylines(points: np.ndarray, sizes: np.ndarray, spacing: float
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Consecutive polylines (runs of ``sizes`` points) each resampled as by
+    :func:`resample_polyline`, to the bit; the points of all and the new sizes."""
+    first = starts(sizes)
+    last = first + sizes - 1
+    s = arc_lengths(points, first, last)
+    length = s[last]
+    closed = (sizes > 2) & (points[first] == points[last]).all(axis=1)
+    n = np.maximum(np.where(closed, 4, 2), np.ceil(length / spacing).astype(np.intp) + 1)
+    lines = Polylines.of_flat(s, points, first, last)
+    which = np.repeat(np.arange(len(n)), n)
+    start = starts(n)
+    t = (np.arange(len(which)) - start[which]) * (length / (n - 1))[which]
+    t[start + n - 1] = length
+    return lines.at(which, t), n

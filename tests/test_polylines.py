@@ -5,10 +5,23 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.arrays import geometry
-from core.arrays.ragged import Polylines, arc_lengths, starts, total_lengths
+from core.arrays.polylines import (
+    Polylines,
+    arc_lengths,
+    resample_polyline,
+    resample_polylines,
+    starts,
+    total_lengths,
+)
 from core.merge.fourier import curve_descriptors, fourier_descriptors
 from core.output.stroke_graph import end_directions
+
+
+def _alone(points: np.ndarray) -> np.ndarray:
+    """Arc lengths of one polyline, written out plainly: the reference."""
+    s = np.zeros(len(points))
+    np.cumsum(np.hypot(*np.diff(points, axis=0).T), out=s[1:])
+    return s
 
 
 def _polylines(seed: int) -> list[np.ndarray]:
@@ -27,7 +40,9 @@ def test_arc_lengths_of_many_are_each_ones_own(long_one):
     sizes = np.array([len(p) for p in lines])
     first = starts(sizes)
     together = arc_lengths(np.concatenate(lines), first, first + sizes - 1)
-    alone = [geometry.arc_lengths(p) for p in lines]
+    alone = [_alone(p) for p in lines]
+    for p, s in zip(lines, alone):
+        np.testing.assert_array_equal(arc_lengths(p), s)
     np.testing.assert_array_equal(together, np.concatenate(alone))
     np.testing.assert_array_equal(total_lengths(lines), [s[-1] for s in alone])
 
@@ -35,7 +50,7 @@ def test_arc_lengths_of_many_are_each_ones_own(long_one):
 @pytest.mark.parametrize("queries", [300, 5000])  # few on each polyline, and many
 def test_sampling_many_is_np_interp_of_each(queries):
     lines = _polylines(1)
-    arcs = [geometry.arc_lengths(p) for p in lines]
+    arcs = [_alone(p) for p in lines]
     lines_ = Polylines.of(arcs, lines)
     rng = np.random.default_rng(2)
     which = np.sort(rng.integers(0, len(lines), queries))  # grouped by polyline
@@ -63,7 +78,7 @@ def test_descriptors_of_many_are_each_ones_own():
 
 def _end_direction(points: np.ndarray, reach: float) -> np.ndarray:
     """Unit direction leaving the first point, looking ``reach`` along: one at a time."""
-    s = geometry.arc_lengths(points)
+    s = _alone(points)
     k = int(np.clip(np.searchsorted(s, reach), 1, len(points) - 1))
     d = points[k] - points[0]
     n = np.hypot(*d)
@@ -76,3 +91,15 @@ def test_end_directions_of_many_are_each_ones_own(reach):
     together = end_directions(lines, reach)
     alone = [_end_direction(w, reach) for p in lines for w in (p, p[::-1])]
     assert together.tobytes() == np.array(alone).tobytes()
+
+
+@pytest.mark.parametrize("spacing", [1e-3, 0.05, 3.0])
+def test_resampling_many_is_each_ones_own(spacing):
+    lines = _polylines(4)
+    lines.append(np.array([[0.0, 0], [1, 0], [1, 1], [0, 0]]))  # closed: kept a loop
+    sizes = np.array([len(p) for p in lines])
+    points, new_sizes = resample_polylines(np.concatenate(lines), sizes, spacing)
+    alone = [resample_polyline(p, spacing) for p in lines]
+    np.testing.assert_array_equal(new_sizes, [len(a) for a in alone])
+    assert points.tobytes() == np.concatenate(alone).tobytes()
+    assert len(alone[-1]) >= 4

@@ -1,0 +1,239 @@
+"""The bi-edge pass (paper 3.3): edges that still run side by side after agglomeration (the
+two long sides of a slender border patch, or a free curve along an outline) are merged by
+the curve-curve operator again, while a merge costs less than epsilon.
+
+Candidate pairs (boxes within d_eps; not two free curves, which agglomeration has judged;
+with most of five points of the shorter edge within d_eps of the longer) are swept closest
+first, by the mean distance of those points. Each candidate stands for whatever its edges
+have been merged into by then; a pair already merged into one is skipped, and every pair
+of current edges is judged once: paired and merged by :func:`pair_and_merge_many`, costed
+as min(d(A, M), d(B, M)), and merged if it pairs and costs less than epsilon. Costed
+lazily this way, a dense cluster of k overlapping edges costs about k merges, not the k * k
+pairs among them.
+
+Invariant: the result depends on the edges and parameters alone. Judgments are made in
+batches (the pair needed and the next few), found in the memo from other runs or not;
+each is exact whatever batch it was made in (:mod:`core.arrays.polylines`).
+"""
+
+from __future__ import annotations
+
+from itertools import islice
+
+import numpy as np
+import shapely
+
+from ..arrays.geometry import lines_from
+from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
+from ..merge.fourier import curve_descriptors, fd_distance
+from ..params import SimplifyParams
+from .memo import StrokeMemo
+from .stroke_graph import Edge
+
+__all__ = ["JUDGE_AHEAD", "BiEdgePass", "merge_bi_edges"]
+
+#: pairs of edges judged in one batch: the one needed and up to this many of the candidates
+#: coming next (the later ones are wasted when a merge before them changes their edges)
+JUDGE_AHEAD = 32
+
+#: candidates settled by earlier merges are dropped this many at a time with array
+#: operations (a dense drawing has millions of candidates, most of them settled)
+CANDIDATE_BLOCK = 4096
+
+
+def merge_bi_edges(edges: list[Edge], params: SimplifyParams, memo: StrokeMemo) -> list[Edge]:
+    """The edges after the bi-edge pass (see the module docstring)."""
+    return BiEdgePass(edges, params, memo).run()
+
+
+class BiEdgePass:
+    """One run of the pass over a list of edges.
+
+    Edges are numbered: the given ones first, each merged edge appended. ``root[k]`` is
+    the current edge that edge k has been merged into (k itself while it stands).
+    """
+
+    def __init__(self, edges: list[Edge], params: SimplifyParams, memo: StrokeMemo) -> None:
+        self.params = params
+        self.d_eps = params.alpha
+        self.memo = memo
+        self.input = edges
+        self.points: list[np.ndarray] = [e.points for e in edges]
+        self.weights: list[float] = [1.0] * len(edges)  # how many edges each stands for
+        self.free: list[bool] = [e.free for e in edges]
+        self.perimeter: list[float] = [e.perimeter for e in edges]  # merged: inf
+        self.root = np.arange(2 * len(edges))  # room for every merge there can be
+        # keys (a * len(root) + b) of pairs of current edges judged, in the order judged
+        self.judged: dict[int, None] = {}
+        # this run's samples, descriptors and judgments by edge number (from the memo or
+        # made here; the memo may let go of them, this run may not)
+        self._curves: dict[int, SampledCurve] = {}
+        self._fds: dict[int, np.ndarray] = {}
+        self._pairs: dict[tuple[int, int], tuple[np.ndarray, np.ndarray] | None] = {}
+
+    # -- what is known of edges and pairs ------------------------------------------------------
+    def _memo_key(self, a: int, b: int) -> tuple:
+        return (self.points[a].tobytes(), self.weights[a], self.points[b].tobytes(),
+                self.weights[b])
+
+    def _judged_before(self, pair: tuple[int, int]) -> bool:
+        """Whether the pair's judgment is at hand (this run's, or the memo's)."""
+        if pair in self._pairs:
+            return True
+        key = self._memo_key(*pair)
+        if key in self.memo.pairs:
+            self._pairs[pair] = self.memo.pairs.get(key)
+            return True
+        return False
+
+    def _sample(self, edges: list[int]) -> None:
+        """Sample the edges not sampled yet, together."""
+        todo: dict[bytes, list[int]] = {}
+        for k in edges:
+            if k not in self._curves:
+                key = self.points[k].tobytes()
+                if key in self.memo.curves:
+                    self._curves[k] = self.memo.curves.get(key)
+                else:
+                    todo.setdefault(key, []).append(k)
+        made = SampledCurve.many([self.points[ks[0]] for ks in todo.values()],
+                                 sample_spacing(self.d_eps))
+        for (key, ks), curve in zip(todo.items(), made):
+            self.memo.curves.put(key, curve)
+            self._curves.update(dict.fromkeys(ks, curve))
+
+    def _fd(self, k: int) -> np.ndarray:
+        if k not in self._fds:
+            key = self.points[k].tobytes()
+            fd = self.memo.descriptors.get(key)
+            if fd is None:
+                fd = curve_descriptors([self.points[k]], self.params.samples)[0]
+                self.memo.descriptors.put(key, fd)
+            self._fds[k] = fd
+        return self._fds[k]
+
+    def _judge(self, pairs: list[tuple[int, int]]) -> None:
+        """Pair and merge these pairs of edges at once, and describe the merged edges and
+        the edges of those that pair (to be costed) in one batch."""
+        self._sample([k for pair in pairs for k in pair])
+        found = pair_and_merge_many(
+            [(self._curves[a], self.weights[a], self._curves[b], self.weights[b])
+             for a, b in pairs], self.d_eps, self.params.angle, sides_only=True)
+        merged = [m for _, m in found if m is not None]
+        parts = list(dict.fromkeys(
+            k for (a, b), (_, m) in zip(pairs, found) if m is not None for k in (a, b)
+            if k not in self._fds and self.points[k].tobytes() not in self.memo.descriptors))
+        fds = curve_descriptors(merged + [self.points[k] for k in parts], self.params.samples)
+        for k, row in zip(parts, fds[len(merged):]):
+            self._fds[k] = row.copy()
+            self.memo.descriptors.put(self.points[k].tobytes(), self._fds[k])
+        rows = iter(fds)
+        for (a, b), (_, m) in zip(pairs, found):
+            self._pairs[(a, b)] = None if m is None else (m, next(rows).copy())
+            self.memo.pairs.put(self._memo_key(a, b), self._pairs[(a, b)])
+
+    # -- the sweep -----------------------------------------------------------------------------
+    def _current(self, u: int, v: int) -> tuple[int, int] | None:
+        """The pair of current edges candidate (u, v) stands for, smaller first; None when
+        they have been merged into one or that pair was judged already."""
+        a, b = sorted((int(self.root[u]), int(self.root[v])))
+        return (a, b) if a != b and a * len(self.root) + b not in self.judged else None
+
+    def _unsettled(self, x: np.ndarray, y: np.ndarray, done: np.ndarray
+                   ) -> tuple[list[int], list[int]]:
+        """The candidates of a block whose edges are not merged into one and whose pair
+        was not judged by the start of the block (``done``: judged keys, sorted)."""
+        a, b = self.root[x], self.root[y]
+        keys = np.minimum(a, b).astype(np.int64) * len(self.root) + np.maximum(a, b)
+        keep = a != b
+        if len(done):
+            keep &= done[np.searchsorted(done, keys).clip(max=len(done) - 1)] != keys
+        return x[keep].tolist(), y[keep].tolist()
+
+    def _settle(self, pair: tuple[int, int], next_x: list[int], next_y: list[int]) -> None:
+        """Judge a pair (with the candidates coming next, when not judged before) and merge
+        it if it pairs and costs less than epsilon."""
+        a, b = pair
+        self.judged[a * len(self.root) + b] = None  # a merge replaces both: never again
+        if not self._judged_before(pair):
+            upcoming = dict.fromkeys(filter(None, (self._current(u, v)
+                                                   for u, v in zip(next_x, next_y))))
+            self._judge([pair] + [p for p in upcoming if not self._judged_before(p)])
+        judgment = self._pairs[pair]
+        if judgment is None:
+            return
+        merged, new_fd = judgment
+        if min(fd_distance(self._fd(a), new_fd),
+               fd_distance(self._fd(b), new_fd)) >= self.params.epsilon:
+            return
+        n = len(self.points)
+        self.points.append(merged)
+        self._fds[n] = new_fd
+        if merged.tobytes() not in self.memo.descriptors:
+            self.memo.descriptors.put(merged.tobytes(), new_fd)
+        self.weights.append(self.weights[a] + self.weights[b])
+        self.free.append(False)
+        self.perimeter.append(np.inf)
+        self.root[(self.root == a) | (self.root == b)] = n
+
+    def _candidates(self) -> tuple[np.ndarray, np.ndarray]:
+        """The candidate pairs (first, second edge), closest first."""
+        lines = lines_from(self.points)
+        # pairs whose boxes come within d_eps: the probes below keep only pairs running
+        # side by side, which are within d_eps, so GEOS need not measure every distance
+        lo = shapely.bounds(lines)
+        d = self.d_eps
+        i, j = shapely.STRtree(lines).query(shapely.box(*(lo[:, :2] - d).T,
+                                                        *(lo[:, 2:] + d).T))
+        free = np.array(self.free)
+        keep = (i < j) & ~(free[i] & free[j])
+        i, j = i[keep], j[keep]
+        if len(i) == 0:
+            return i, j
+        closeness, beside = _beside(lines, i, j, d)
+        order = np.lexsort((j, i, closeness))
+        order = order[beside[order]]
+        return i[order], j[order]
+
+    def run(self) -> list[Edge]:
+        if len(self.points) < 2:
+            return self.input
+        first, second = self._candidates()
+        if len(first) == 0:
+            return self.input
+        done = np.empty(0, dtype=np.int64)  # judged keys, sorted, as of the last block
+        for start in range(0, len(first), CANDIDATE_BLOCK):
+            if len(self.judged) > len(done):
+                done = np.union1d(done, np.fromiter(islice(self.judged, len(done), None),
+                                                      np.int64))
+            xs, ys = self._unsettled(first[start:start + CANDIDATE_BLOCK],
+                                     second[start:start + CANDIDATE_BLOCK], done)
+            for k, (u, v) in enumerate(zip(xs, ys)):
+                pair = self._current(u, v)
+                if pair is not None:
+                    self._settle(pair, xs[k + 1:k + 1 + JUDGE_AHEAD],
+                                 ys[k + 1:k + 1 + JUDGE_AHEAD])
+        return [Edge(self.points[k], self.perimeter[k], self.free[k])
+                for k in range(len(self.points)) if self.root[k] == k]
+
+
+def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
+            chunk: int = 50_000) -> tuple[np.ndarray, np.ndarray]:
+    """For each pair (i, j): the mean distance of five points along the shorter line to the
+    longer, and whether at least two of them lie within d_eps (it runs along it).
+
+    The five points of each line are made once; pairs are measured in chunks, as a dense
+    drawing has millions of them."""
+    length = shapely.length(lines)
+    probes = shapely.line_interpolate_point(np.repeat(lines, 5),
+                                            np.tile(np.linspace(0, 1, 5), len(lines)),
+                                            normalized=True).reshape(-1, 5)
+    closeness, beside = np.empty(len(i)), np.empty(len(i), dtype=bool)
+    for k in range(0, len(i), chunk):
+        a, b = i[k:k + chunk], j[k:k + chunk]
+        first_shorter = length[a] <= length[b]
+        short, long_ = np.where(first_shorter, a, b), np.where(first_shorter, b, a)
+        dist = shapely.distance(probes[short], lines[long_][:, None])
+        closeness[k:k + chunk] = dist.mean(axis=1)
+        beside[k:k + chunk] = (dist <= d_eps).mean(axis=1) >= 0.4
+    return closeness, beside

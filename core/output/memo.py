@@ -1,0 +1,91 @@
+"""What the output stage keeps between runs of one result: a slider replays the merge
+history at other epsilons, and the states it passes through share most edges, most pairs
+of edges and most output strokes with each other.
+
+Every store is keyed by content (a polyline's bytes, with what else the value depends on)
+and holds a value that depends on its key alone, so a hit and a miss give the same result
+to the bit. Each store is bounded, least recently used first out: a long slider session
+on a large drawing would otherwise keep every state it ever passed through. Code reading
+a store never counts on a value it put there earlier staying: the pass keeps what it needs
+for itself and only asks the memo first.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Hashable
+from dataclasses import dataclass, field
+from typing import Generic, TypeVar
+
+import numpy as np
+
+__all__ = ["MEMO_ENTRIES", "LruStore", "StrokeMemo", "shape_key"]
+
+K = TypeVar("K", bound=Hashable)
+V = TypeVar("V")
+
+#: entries each store keeps. A fresh run and eight replays of the largest dev sketch
+#: (Professional6/shampoo_bottle) put about 12,000 entries in the busiest store (the
+#: bi-edge pass's pair judgments); 50,000 keep a whole slider session of it warm, at
+#: a few hundred MB at the most for the largest values (Bezier fits with their polylines).
+MEMO_ENTRIES = 50_000
+
+
+class LruStore(Generic[K, V]):
+    """A mapping that keeps at most ``size`` entries, dropping the least recently used.
+
+    >>> store = LruStore(2)
+    >>> store.put("a", 1); store.put("b", 2); _ = store.get("a"); store.put("c", 3)
+    >>> sorted(store.keys())
+    ['a', 'c']
+    """
+
+    def __init__(self, size: int = MEMO_ENTRIES) -> None:
+        self.size = size
+        self._data: OrderedDict[K, V] = OrderedDict()
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def __contains__(self, key: K) -> bool:
+        return key in self._data
+
+    def keys(self):
+        return self._data.keys()
+
+    def get(self, key: K, default: V | None = None) -> V | None:
+        """The value kept for ``key`` (now the most recently used), or ``default``."""
+        if key not in self._data:
+            return default
+        self._data.move_to_end(key)
+        return self._data[key]
+
+    def put(self, key: K, value: V) -> None:
+        self._data[key] = value
+        self._data.move_to_end(key)
+        while len(self._data) > self.size:
+            self._data.popitem(last=False)
+
+
+def shape_key(points: np.ndarray, closed: bool = False) -> bytes:
+    """A polyline by content, open or closed, as the stores key what is made of it."""
+    return points.tobytes() + (b"c" if closed else b"o")
+
+
+@dataclass
+class StrokeMemo:
+    """The output stage's stores, shared by a result and every replay of it."""
+
+    #: Bezier fit of a resampled output stroke (shape_key): control points and the
+    #: polyline sampled from them
+    fits: LruStore[bytes, tuple[np.ndarray, np.ndarray]] = field(default_factory=LruStore)
+    #: an edge sampled for pairing (its bytes): :class:`core.merge.curve_merge.SampledCurve`
+    curves: LruStore = field(default_factory=LruStore)
+    #: an edge's Fourier descriptor as a slender ring (its bytes)
+    descriptors: LruStore[bytes, np.ndarray] = field(default_factory=LruStore)
+    #: a side-by-side pair (points and weights of both): the merged edge and its
+    #: descriptor, or None when they do not pair
+    pairs: LruStore[tuple, tuple[np.ndarray, np.ndarray] | None] = field(
+        default_factory=LruStore)
+    #: where a chain (shape_key) is cut at hairpin turns
+    tips: LruStore[bytes, list[int]] = field(default_factory=LruStore)
