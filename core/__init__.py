@@ -29,10 +29,9 @@ from .simplify import SimplifyResult, simplify
 from .sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "CleaningReport",
-    "Normalisation", "Patch", "ReplayCache", "Sketch", "SketchError", "Stroke",
-    "SimplifyParams", "SimplifyResult", "build_base_complex", "clean_sketch",
-    "curve_descriptors", "default_jobs", "evaluate_bezier", "fd_distance",
-    "fourier_descriptor", "fourier_descriptors", "normalised_strokes", "read_sketch",
-    "sample_bezier", "simplify", "simplify_all", "write_sketch",
+    "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "CleaningReport", "Normalisation",
+    "Patch", "ReplayCache", "Sketch", "SketchError", "Stroke", "SimplifyParams", "SimplifyResult",
+    "build_base_complex", "clean_sketch", "curve_descriptors", "default_jobs", "evaluate_bezier",
+    "fd_distance", "fourier_descriptor", "fourier_descriptors", "normalised_strokes",
+    "read_sketch", "sample_bezier", "simplify", "simplify_all", "write_sketch",
 ]

@@ -26,6 +26,8 @@ from .params import SimplifyParams
 from .simplify import simplify
 from .sketch import Sketch, SketchError, Stroke
 
+__all__ = ["default_jobs", "simplify_all"]
+
 
 def _simplify_strokes(args: tuple[Sketch, SimplifyParams]) -> list[Stroke] | SketchError:
     sketch, params = args

@@ -7,6 +7,8 @@ from dataclasses import asdict, dataclass
 
 from .sketch import SketchError
 
+__all__ = ["SimplifyParams"]
+
 
 @dataclass(frozen=True)
 class SimplifyParams:

@@ -17,6 +17,8 @@ from .params import SimplifyParams
 from .simplify import SimplifyResult, simplify
 from .sketch import Sketch, Stroke
 
+__all__ = ["COVERED_EPSILON", "ReplayCache", "sketch_digest"]
+
 #: the epsilon a cached run covers at least: the top of the paper's useful range
 COVERED_EPSILON = 0.03
 

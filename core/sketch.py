@@ -12,6 +12,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+__all__ = ["Sketch", "SketchError", "Stroke"]
+
 
 class SketchError(ValueError):
     """Input that cannot be a sketch, or parameters that cannot apply to one."""

@@ -18,6 +18,10 @@ import shapely
 from core.arrays.geometry import lines_from
 from core.arrays.polylines import resample_polyline
 
+__all__ = [
+    "chamfer", "coverage", "fidelity", "nearest_distances", "precision_recall_f", "sample_points",
+]
+
 
 def sample_points(polylines: list[np.ndarray], spacing: float) -> np.ndarray:
     pieces = [resample_polyline(p, spacing) for p in polylines if len(p) >= 2]

@@ -37,7 +37,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from bench_complex import rough_files, sketch_name  # noqa: E402
-from bench_simplify import intended_curves, machine_pace, measure_synthetic  # noqa: E402
+from bench_simplify import intended_curves, machine_pace, scaling  # noqa: E402
 from metrics import chamfer, coverage, fidelity, precision_recall_f  # noqa: E402
 
 from core import SimplifyParams, read_sketch, simplify  # noqa: E402
@@ -113,15 +113,10 @@ def median(rows: list[dict], method: str, key: str) -> float | None:
     return float(np.median(vals)) if vals else None
 
 
-def scaling(sizes: list[int], out_dir: Path) -> dict:
-    rows = []
-    for n in sizes:
-        seconds, peak_mb = measure_synthetic(n)
-        rows.append({"strokes": n, "seconds": seconds, "peak_mb": peak_mb})
-        print(f"  synthetic {n:6d} strokes: {seconds:7.2f} s, peak {peak_mb:7.1f} MB", flush=True)
-    x = np.log([r["strokes"] for r in rows])
-    fit = {"time_exponent": float(np.polyfit(x, np.log([r["seconds"] for r in rows]), 1)[0]),
-           "memory_exponent": float(np.polyfit(x, np.log([r["peak_mb"] for r in rows]), 1)[0])}
+def scaling_plot(sizes: list[int], out_dir: Path) -> dict:
+    """The benchmark's synthetic scaling measured, and plotted into scaling.png."""
+    fit = scaling(sizes)
+    rows = fit["rows"]
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     for a, key, label in ((ax[0], "seconds", "seconds"), (ax[1], "peak_mb", "peak MB")):
         a.loglog([r["strokes"] for r in rows], [r[key] for r in rows], "o-")
@@ -132,7 +127,7 @@ def scaling(sizes: list[int], out_dir: Path) -> dict:
     fig.tight_layout()
     fig.savefig(out_dir / "scaling.png", dpi=80)
     plt.close(fig)
-    return {"rows": rows, **fit}
+    return fit
 
 
 def sweep_plot(rows: list[dict], out_dir: Path) -> None:
@@ -264,7 +259,7 @@ def main() -> int:
                for m in ("input", "douglas_peucker", "sketchsimp")}
     medians["sketchsimp"]["seconds"] = float(np.median([r["seconds"] for r in rows]))
     sweep_plot(rows, args.out)
-    scale = scaling([int(x) for x in args.scaling.split(",")], args.out) if args.scaling \
+    scale = scaling_plot([int(x) for x in args.scaling.split(",")], args.out) if args.scaling \
         else None
     write_html(rows, medians, scale, args.out)
     (args.out / "summary.json").write_text(json.dumps(

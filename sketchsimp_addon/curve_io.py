@@ -13,6 +13,8 @@ import numpy as np
 
 from ..core import sample_bezier
 
+__all__ = ["FREE", "new_curve_object", "read_curve", "write_bezier_splines"]
+
 FREE = 0  # handle type, as foreach_set takes it
 
 

@@ -14,6 +14,8 @@ import numpy as np
 
 from .drawing import DrawingData, NewStrokes
 
+__all__ = ["DEFAULTS", "FREE_HANDLE", "grease_pencil_data", "read_drawing", "write_strokes"]
+
 #: Blender's defaults for a stroke attribute the drawing does not have
 DEFAULTS = {"radius": 0.01, "opacity": 1.0, "material_index": 0, "cyclic": False}
 BEZIER, POLY = 2, 1

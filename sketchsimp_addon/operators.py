@@ -10,6 +10,8 @@ from ..core import SketchError
 from .options import SimplifyOptions
 from .run import simplify_curve_object, simplify_object, write_curve_result, write_results
 
+__all__ = ["SKETCHSIMP_OT_simplify"]
+
 
 class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
     """Turn the rough strokes of the active Grease Pencil object into few clean curves"""

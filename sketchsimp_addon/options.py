@@ -6,6 +6,8 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from ..core import SimplifyParams
 
+__all__ = ["DEFAULTS", "LAYER_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS", "SimplifyOptions"]
+
 DEFAULTS = SimplifyParams()
 
 SCOPE_ITEMS = [

@@ -7,6 +7,8 @@ from bpy.props import StringProperty
 
 from .options import SimplifyOptions
 
+__all__ = ["OPTION_NAMES", "SKETCHSIMP_PT_panel", "SketchSimpSettings"]
+
 OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "as_curve", "alpha",
                 "samples", "angle", "beta", "join_angle", "corner_angle")
 

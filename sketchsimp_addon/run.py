@@ -17,6 +17,12 @@ from .curve_io import new_curve_object, read_curve, write_bezier_splines
 from .drawing import NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
+__all__ = [
+    "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "match_parent", "place_above",
+    "RunReport", "simplify_curve_object", "simplify_object", "source_frames", "target_layers",
+    "write_curve_result", "write_results",
+]
+
 
 @dataclass
 class RunReport:

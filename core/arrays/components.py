@@ -7,6 +7,10 @@ from collections.abc import Iterable
 import numpy as np
 import shapely
 
+__all__ = [
+    "cluster_labels", "component_labels", "group_means", "tight_cluster_labels", "wider_than",
+]
+
 
 def component_labels(n: int, pairs: np.ndarray | Iterable[np.ndarray]) -> np.ndarray:
     """Labels 0..k-1 of ``n`` items such that the two items of every pair share one.

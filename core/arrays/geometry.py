@@ -6,6 +6,11 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+__all__ = [
+    "lines_from", "polygons_from", "ring_is_counter_clockwise", "shoelace_terms",
+    "split_coordinates",
+]
+
 
 def _flat(polylines: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     counts = np.fromiter((len(p) for p in polylines), dtype=np.intp, count=len(polylines))

@@ -21,6 +21,11 @@ from functools import cached_property
 
 import numpy as np
 
+__all__ = [
+    "arc_lengths", "end_to_end", "points_at", "Polylines", "resample_polyline",
+    "resample_polylines", "split", "starts", "total_lengths",
+]
+
 
 def starts(sizes: np.ndarray) -> np.ndarray:
     """Where each of consecutive runs of these sizes starts."""

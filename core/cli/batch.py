@@ -11,6 +11,8 @@ from ..parallel import simplify_all
 from ..params import SimplifyParams
 from ..sketch import Sketch, SketchError
 
+__all__ = ["batch"]
+
 
 def batch(in_dir: Path, out_dir: Path, params: SimplifyParams, jobs: int,
           suffix: str = ".svg", summary: Path | None = None) -> int:

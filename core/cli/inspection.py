@@ -10,6 +10,8 @@ from ..complex.base_complex import build_base_complex
 from ..io.cleaning import clean_sketch, normalised_strokes
 from ..io.files import read_sketch
 
+__all__ = ["format_inspection", "inspect_sketch", "run"]
+
 
 def inspect_sketch(path: str | Path) -> dict:
     """Counts of the sketch and its base complex, and the seconds each stage took."""

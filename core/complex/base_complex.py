@@ -22,6 +22,8 @@ from ..arrays.components import component_labels
 from ..arrays.geometry import polygons_from, shoelace_terms
 from .noding import GRID, node_strokes
 
+__all__ = ["BaseComplex", "BaseComplexError", "build_base_complex", "check_euler", "Patch"]
+
 #: a ring of a face: (curve id, True if walked from its first point to its last)
 Ring = list[tuple[int, bool]]
 

@@ -13,6 +13,8 @@ import shapely
 
 from ..arrays.geometry import lines_from, split_coordinates
 
+__all__ = ["GRID", "more_crossings_than", "node_strokes"]
+
 #: snapping grid in the unit-diagonal frame: 1e-6 of the bounding-box diagonal
 GRID = 1e-6
 

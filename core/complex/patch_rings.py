@@ -14,6 +14,10 @@ import numpy as np
 from ..arrays.geometry import shoelace_terms
 from .base_complex import BaseComplex, Ring
 
+__all__ = [
+    "half_edges", "Outline", "RingGeometry", "spike_walk", "union_outline_points", "union_rings",
+]
+
 
 def half_edges(ring: Ring) -> list[int]:
     return [2 * c + (0 if fwd else 1) for c, fwd in ring]

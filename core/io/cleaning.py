@@ -8,6 +8,8 @@ import numpy as np
 
 from ..sketch import Sketch, SketchError, Stroke
 
+__all__ = ["clean_sketch", "clean_stroke", "CleaningReport", "Normalisation", "normalised_strokes"]
+
 
 @dataclass
 class CleaningReport:

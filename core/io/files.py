@@ -8,6 +8,8 @@ from ..sketch import Sketch, SketchError
 from .scap import read_scap, write_scap
 from .svg import read_svg, write_svg
 
+__all__ = ["READERS", "WRITERS", "read_sketch", "write_sketch"]
+
 READERS = {".svg": read_svg, ".scap": read_scap}
 WRITERS = {".svg": write_svg, ".scap": write_scap}
 

@@ -20,6 +20,8 @@ import numpy as np
 
 from ..sketch import Sketch, SketchError, Stroke
 
+__all__ = ["format_scap", "parse_scap", "read_scap", "write_scap"]
+
 
 def _numbers(text: str, where: str) -> list[float]:
     try:

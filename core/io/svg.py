@@ -21,6 +21,11 @@ from defusedxml import DefusedXmlException
 
 from ..sketch import Sketch, SketchError, Stroke
 
+__all__ = [
+    "MAX_SVG_BYTES", "MAX_SVG_ELEMENTS", "MAX_SVG_NUMBERS", "RELATIVE_TOLERANCE", "format_svg",
+    "parse_svg", "path_data", "read_svg", "write_svg",
+]
+
 #: default sampling tolerance, as a fraction of the drawing's bounding-box diagonal
 RELATIVE_TOLERANCE = 5e-4
 #: largest SVG file read, in bytes

@@ -25,6 +25,10 @@ import shapely
 
 from ..arrays.polylines import Polylines, arc_lengths, resample_polylines, split, starts
 
+__all__ = [
+    "MIN_OVERLAP", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
+]
+
 #: fraction of the shorter curve that must lie beside the longer one
 MIN_OVERLAP = 0.5
 

@@ -19,6 +19,11 @@ import numpy as np
 
 from ..arrays.polylines import Polylines, arc_lengths, end_to_end, points_at
 
+__all__ = [
+    "DEFAULT_SAMPLES", "curve_descriptors", "fd_distance", "fourier_descriptor",
+    "fourier_descriptors", "resample_ring", "resample_rings", "slender_ring",
+]
+
 DEFAULT_SAMPLES = 256
 
 

@@ -15,6 +15,8 @@ import shapely
 from ..arrays.polylines import resample_polyline
 from .curve_merge import sample_spacing
 
+__all__ = ["CurveSamples", "DistanceGuard", "PatchCurves"]
+
 
 class PatchCurves:
     """The curves of two patches except the ones they share, as a view: a big patch has

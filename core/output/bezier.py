@@ -12,6 +12,11 @@ import numpy as np
 
 from ..arrays.polylines import arc_lengths, end_to_end, split
 
+__all__ = [
+    "MAX_DEPTH", "SAMPLES_PER_SEGMENT", "corner_indices", "evaluate_bezier", "fit_bezier",
+    "fit_beziers", "sample_bezier",
+]
+
 
 def _basis(t: np.ndarray) -> np.ndarray:
     """The cubic Bernstein basis at parameters t: (len(t), 4)."""

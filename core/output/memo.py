@@ -25,10 +25,11 @@ K = TypeVar("K", bound=Hashable)
 V = TypeVar("V")
 
 #: entries each store keeps. A fresh run and eight replays of the largest dev sketch
-#: (Professional6/shampoo_bottle) put about 12,000 entries in the busiest store (the
-#: bi-edge pass's pair judgments); 50,000 keep a whole slider session of it warm, at
-#: a few hundred MB at the most for the largest values (Bezier fits with their polylines).
-MEMO_ENTRIES = 50_000
+#: (Professional6/shampoo_bottle) put 93,000 entries in the busiest store (the bi-edge
+#: pass's pair judgments; 27,000 in the next) at a peak of 334 MB for the whole process.
+#: Capped at 50,000, those replays took 5% longer and the peak was 7 MB lower: the cap is
+#: there for sessions far longer than that, not to trim this one.
+MEMO_ENTRIES = 200_000
 
 
 class LruStore(Generic[K, V]):

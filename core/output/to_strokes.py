@@ -37,8 +37,10 @@ from .bi_edges import merge_bi_edges
 from .memo import StrokeMemo, shape_key
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
-__all__ = ["FittedStroke", "contract_short_edges", "join_edges", "linework", "renode",
-           "split_at_tips", "to_strokes", "trim_spurs"]
+__all__ = [
+    "FittedStroke", "contract_short_edges", "join_edges", "linework", "renode", "split_at_tips",
+    "to_strokes", "trim_spurs",
+]
 
 
 @dataclass(frozen=True)
