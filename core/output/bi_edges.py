@@ -136,8 +136,11 @@ class BiEdgePass:
     def _current(self, u: int, v: int) -> tuple[int, int] | None:
         """The pair of current edges candidate (u, v) stands for, smaller first; None when
         they have been merged into one or that pair was judged already."""
-        a, b = sorted((int(self.root[u]), int(self.root[v])))
-        return (a, b) if a != b and a * len(self.root) + b not in self.judged else None
+        root = self.root  # called for every candidate: a few hundred thousand times
+        a, b = int(root[u]), int(root[v])
+        if a > b:
+            a, b = b, a
+        return (a, b) if a != b and a * len(root) + b not in self.judged else None
 
     def _unsettled(self, x: np.ndarray, y: np.ndarray, done: np.ndarray
                    ) -> tuple[list[int], list[int]]:
