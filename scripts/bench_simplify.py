@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from bench_complex import rough_files, sketch_name  # noqa: E402
-from metrics import coverage, fidelity, precision_recall_f  # noqa: E402
+from metrics import coverage, doubled, fidelity, precision_recall_f  # noqa: E402
 
 from core import read_sketch  # noqa: E402
 from core.params import SimplifyParams  # noqa: E402
@@ -56,19 +56,42 @@ def score(path: Path, params: SimplifyParams, repeat: int = 1) -> dict:
         t0 = time.perf_counter()
         result.at(params.epsilon / 2)  # what a slider does: replay at another epsilon
         at_ms = min(at_ms, 1e3 * (time.perf_counter() - t0))
+    return measure(path, sketch, [s.points for s in result.strokes]) | {
+        "seconds": seconds, "at_ms": at_ms, "patches": result.counts["before"]["patches"]}
+
+
+def diagonal(sketch) -> float:
+    """The canvas diagonal (of the strokes' bounding box where the file gives no canvas)."""
+    if sketch.width and sketch.height:
+        return float(np.hypot(sketch.width, sketch.height))
+    pts = np.concatenate([s.points for s in sketch.strokes])
+    return float(np.hypot(*(pts.max(axis=0) - pts.min(axis=0))))
+
+
+def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
+    """The quality measures of one output (see scripts/metrics.py), distances against the
+    canvas diagonal D:
+
+    coverage at 1% of D; ink kept at 2%; fidelity (mean distance of the output to the ink,
+    px); doubled (share of output ink beside another output stroke over the same intended
+    curve: cluster ids of the .scap files); per_in and per_intended (output strokes per
+    input stroke and per intended curve); against the lift3d references, the F-score at 1%
+    of D and the tight recall at 0.4%.
+    """
     n_intended, reference = intended_curves(path, sketch)
-    diag = float(np.hypot(sketch.width or 0, sketch.height or 0)) or result.normalisation.scale
-    tol = 0.01 * diag
-    ink = [s.points for s in result._input.strokes]
-    out = [s.points for s in result.strokes]
+    diag = diagonal(sketch)
+    ink = [s.points for s in sketch.strokes]
     row = {
         "strokes_in": len(sketch.strokes), "strokes_out": len(out),
         "intended": n_intended, "per_intended": len(out) / max(n_intended, 1),
-        "coverage": coverage(ink, out, tol), "fidelity_px": fidelity(out, ink),
-        "seconds": seconds, "at_ms": at_ms, "patches": result.counts["before"]["patches"],
+        "per_in": len(out) / max(len(sketch.strokes), 1),
+        "coverage": coverage(ink, out, 0.01 * diag), "ink_kept": coverage(ink, out, 0.02 * diag),
+        "fidelity_px": fidelity(out, ink),
+        "doubled": doubled(out, ink, [s.cluster for s in sketch.strokes], diag),
     }
     if reference is not None:
-        row["f_score"] = precision_recall_f(out, reference, tol)[2]
+        row["f_score"] = precision_recall_f(out, reference, 0.01 * diag)[2]
+        row["tight_recall"] = precision_recall_f(out, reference, 0.004 * diag)[1]
     return row
 
 

@@ -1,13 +1,20 @@
 """How good a simplification is: measures on drawings given as lists of polylines.
 
+An independent scorer: numpy and shapely only, nothing of ``core``, so that it measures the
+code under test rather than sharing its mistakes, and scores any checkout's output alike.
 All distances are in the drawings' own units. Drawings are compared through points
 sampled along them every ``spacing`` units, so that long segments count by their length.
 
-* coverage(ink, output, tol): fraction of the input ink within ``tol`` of the output;
+* coverage(ink, output, tol): fraction of the input ink within ``tol`` of the output
+  ("ink kept" at 2% of the diagonal);
 * fidelity(output, ink): mean distance of the output to the nearest input ink;
 * precision_recall_f(output, reference, tol): the output's share within ``tol`` of the
-  reference (precision), the reference's share within ``tol`` of the output (recall), F1;
-* chamfer(a, b): the symmetric Chamfer distance, the mean of both mean nearest distances.
+  reference (precision), the reference's share within ``tol`` of the output (recall), F1
+  ("tight recall" is the recall at 0.4% of the diagonal);
+* chamfer(a, b): the symmetric Chamfer distance, the mean of both mean nearest distances;
+* doubled(output, ink, clusters, diagonal): the share of output ink running beside another
+  output stroke over the same intended curve (a line left doubled);
+* changed(a, b, tol): the share of either drawing farther than ``tol`` from the other.
 """
 
 from __future__ import annotations
@@ -15,25 +22,42 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from core.arrays.geometry import lines_from
-from core.arrays.polylines import resample_polyline
-
 __all__ = [
-    "chamfer", "coverage", "fidelity", "nearest_distances", "precision_recall_f", "sample_points",
+    "changed", "chamfer", "coverage", "doubled", "fidelity", "nearest_distances",
+    "precision_recall_f", "sample_points",
 ]
 
 
+def _lines(polylines: list[np.ndarray]) -> np.ndarray:
+    return np.array([shapely.LineString(p) for p in polylines if len(p) >= 2], dtype=object)
+
+
+def _samples(polylines: list[np.ndarray], spacing: float
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points every ``spacing`` along each polyline (its end included), the index of the
+    polyline each lies on, and the arc length there."""
+    keep = [k for k, p in enumerate(polylines) if len(p) >= 2]
+    lines = _lines([polylines[k] for k in keep])
+    if not len(lines):
+        return np.empty((0, 2)), np.empty(0, int), np.empty(0)
+    length = shapely.length(lines)
+    count = np.ceil(length / spacing).astype(int) + 1
+    which = np.repeat(np.arange(len(lines)), count)
+    step = length / np.maximum(count - 1, 1)
+    at = (np.arange(len(which)) - np.repeat(np.cumsum(count) - count, count)) * step[which]
+    points = shapely.get_coordinates(shapely.line_interpolate_point(lines[which], at))
+    return points, np.asarray(keep)[which], at
+
+
 def sample_points(polylines: list[np.ndarray], spacing: float) -> np.ndarray:
-    pieces = [resample_polyline(p, spacing) for p in polylines if len(p) >= 2]
-    return np.concatenate(pieces) if pieces else np.empty((0, 2))
+    return _samples(polylines, spacing)[0]
 
 
 def nearest_distances(points: np.ndarray, polylines: list[np.ndarray]) -> np.ndarray:
     """Distance from each point to the nearest of the polylines (inf when there are none)."""
-    lines = [p for p in polylines if len(p) >= 2]
-    if not lines:
+    geoms = _lines(polylines)
+    if not len(geoms):
         return np.full(len(points), np.inf)
-    geoms = lines_from(lines)
     pts = shapely.points(points)
     idx = shapely.STRtree(geoms).query_nearest(pts, all_matches=False)[1]
     return shapely.distance(pts, geoms[idx])
@@ -63,3 +87,67 @@ def precision_recall_f(output: list[np.ndarray], reference: list[np.ndarray], to
 def chamfer(a: list[np.ndarray], b: list[np.ndarray], spacing: float = 1.0) -> float:
     pa, pb = sample_points(a, spacing), sample_points(b, spacing)
     return float(0.5 * (nearest_distances(pa, b).mean() + nearest_distances(pb, a).mean()))
+
+
+def changed(a: list[np.ndarray], b: list[np.ndarray], tol: float, spacing: float) -> float:
+    """The larger of: the share of ``a`` farther than ``tol`` from ``b``, and of ``b`` from
+    ``a`` (0 for the same drawing, 1 for drawings apart)."""
+    pa, pb = sample_points(a, spacing), sample_points(b, spacing)
+    far_a = float((nearest_distances(pa, b) > tol).mean()) if len(pa) else 0.0
+    far_b = float((nearest_distances(pb, a) > tol).mean()) if len(pb) else 0.0
+    return max(far_a, far_b)
+
+
+def _tangents(points: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """Unit tangent at each sample, by differences within its own polyline."""
+    nxt = np.minimum(np.arange(len(points)) + 1, len(points) - 1)
+    prv = np.maximum(np.arange(len(points)) - 1, 0)
+    nxt = np.where(which[nxt] == which, nxt, np.arange(len(points)))
+    prv = np.where(which[prv] == which, prv, np.arange(len(points)))
+    d = points[nxt] - points[prv]
+    n = np.hypot(d[:, 0], d[:, 1])
+    return d / np.where(n > 0, n, 1.0)[:, None]
+
+
+def doubled(output: list[np.ndarray], ink: list[np.ndarray], clusters: list[int],
+            diagonal: float) -> float:
+    """The share of output ink left doubled.
+
+    Output ink is sampled every 0.25% of the diagonal, leaving out the first and last 3% of
+    the diagonal of each stroke. A sample counts as doubled when its nearest sample of
+    another output stroke lies within 3% of the diagonal, runs parallel to it
+    (|cos| >= 0.9), and lies over the same intended curve: the cluster id of the input ink
+    nearest to each of the two samples is the same.
+    """
+    points, which, at = _samples(output, 0.0025 * diagonal)
+    if not len(points):
+        return 0.0
+    tangents = _tangents(points, which)
+    lengths = np.array([shapely.length(shapely.LineString(p)) if len(p) >= 2 else 0.0
+                        for p in output])
+    end = 0.03 * diagonal
+    inner = np.flatnonzero((at >= end) & (at <= lengths[which] - end))
+    if not len(inner):
+        return 0.0
+    geoms = shapely.points(points)
+    i, j = shapely.STRtree(geoms).query(geoms[inner], predicate="dwithin",
+                                        distance=0.03 * diagonal)
+    i = inner[i]
+    other = which[i] != which[j]
+    i, j = i[other], j[other]
+    twin = np.zeros(len(inner), bool)
+    if len(i):
+        dist = np.hypot(*(points[i] - points[j]).T)
+        order = np.lexsort((dist, i))
+        first = np.ones(len(order), bool)
+        first[1:] = i[order][1:] != i[order][:-1]
+        i, j = i[order][first], j[order][first]  # each sample's nearest on another stroke
+        parallel = np.abs((tangents[i] * tangents[j]).sum(axis=1)) >= 0.9
+        ink_lines = _lines(ink)
+        ink_cluster = np.asarray([c for c, p in zip(clusters, ink) if len(p) >= 2])
+        tree = shapely.STRtree(ink_lines)
+        near_i = ink_cluster[tree.query_nearest(geoms[i], all_matches=False)[1]]
+        near_j = ink_cluster[tree.query_nearest(geoms[j], all_matches=False)[1]]
+        same = parallel & (near_i == near_j)
+        twin[np.searchsorted(inner, i[same])] = True
+    return float(twin.mean())

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from metrics import chamfer, coverage, fidelity, precision_recall_f
+from metrics import changed, chamfer, coverage, doubled, fidelity, precision_recall_f
 
 
 def drawing():
@@ -44,3 +44,39 @@ def test_half_the_ink_dropped_is_half_covered():
     assert coverage(full, half, tol=0.1, spacing=0.5) == pytest.approx(0.5, abs=0.01)
     p, r, _ = precision_recall_f(half, full, tol=0.1, spacing=0.5)
     assert p == 1.0 and r == pytest.approx(0.5, abs=0.01)
+
+
+def line(y: float, x0: float = 0.0, x1: float = 400.0) -> np.ndarray:
+    return np.array([[x0, y], [x1, y]])
+
+
+def test_a_line_drawn_twice_over_one_intended_curve_is_doubled():
+    ink = [line(0.0), line(3.0)]  # one intended curve, two passes
+    assert doubled([line(0.0), line(3.0)], ink, [7, 7], diagonal=500.0) == 1.0
+    assert doubled([line(1.5)], ink, [7, 7], diagonal=500.0) == 0.0  # merged mid-bundle
+
+
+def test_two_close_lines_of_different_curves_are_not_doubled():
+    ink = [line(0.0), line(3.0)]
+    assert doubled([line(0.0), line(3.0)], ink, [1, 2], diagonal=500.0) == 0.0
+
+
+def test_crossing_strokes_and_end_to_end_pieces_are_not_doubled():
+    ink = [line(0.0), np.array([[200.0, -200.0], [200.0, 200.0]])]
+    assert doubled(ink, ink, [1, 1], diagonal=500.0) == 0.0  # perpendicular
+    # pieces end to end: their last 3% are left out, so at most a sample at the limit counts
+    pieces = [line(0.0, 0, 200), line(0.0, 200, 400)]
+    assert doubled(pieces, [line(0.0)], [1], diagonal=500.0) < 0.02
+
+
+def test_half_a_line_doubled_counts_half():
+    ink = [line(0.0), line(3.0, 0.0, 200.0)]
+    share = doubled([line(0.0), line(3.0, 0.0, 200.0)], ink, [1, 1], diagonal=500.0)
+    # the long line's left half and all of the short one's inside part, over both lengths
+    assert 0.55 < share < 0.75
+
+
+def test_changed_is_the_share_of_either_drawing_away_from_the_other():
+    assert changed([line(0.0)], [line(0.0)], tol=1.0, spacing=1.0) == 0.0
+    assert changed([line(0.0)], [line(0.0), line(100.0)], tol=1.0,
+                   spacing=1.0) == pytest.approx(0.5, abs=0.01)

@@ -1,0 +1,149 @@
+"""Quality of the output on every real sketch, two at a time: the measures of the clean-lines
+issue, per source, with the five worst sketches of each, and far-ink invariance.
+
+    python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
+    python scripts/quality.py --compare BEFORE.json AFTER.json
+
+Measures per sketch (``bench_simplify.measure``; the scorer is ``scripts/metrics.py``, which
+shares no code with ``core``): doubled, ink kept within 2% of the diagonal, coverage at 1%,
+fidelity in px, output strokes per input stroke and per intended curve, and on the lift3d
+sketches the F-score at 1% and the tight recall at 0.4% of the diagonal. ``--root``
+simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
+that before and after are scored by the same scorer. ``--svg`` writes each output there.
+
+Far-ink invariance: a few sketches simplified alone and with one short stroke ten diagonals
+away; the share of the drawing's output that moved more than 0.5% of the diagonal.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE.parent.parent / "shared" / "data"
+MEASURES = ("doubled", "ink_kept", "coverage", "fidelity_px", "per_in", "per_intended",
+            "f_score", "tight_recall")
+#: for each measure, whether higher is better (the worst are the other end)
+HIGHER_IS_BETTER = {"doubled": False, "ink_kept": True, "coverage": True, "fidelity_px": False,
+                    "per_in": False, "per_intended": False, "f_score": True,
+                    "tight_recall": True}
+FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
+           "strokestrip_inputs/examples/study_inputs/Bee04_SA_cluster.scap",
+           "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/trash_bin/view1/"
+           "lines_separation/full_cluster.scap")
+
+__all__ = ["main", "summary"]
+
+
+def _setup(root: str) -> None:
+    sys.path[:0] = [root, str(HERE)]
+
+
+def score_one(args: tuple[str, str, str | None]) -> tuple[str, dict]:
+    root, path, svg_dir = args
+    _setup(root)
+    from bench_simplify import measure
+
+    from core import SimplifyParams, read_sketch, simplify, write_sketch
+
+    sketch = read_sketch(path)
+    try:
+        result = simplify(sketch, SimplifyParams())
+    except Exception as exc:  # noqa: BLE001 - a failure is a result here
+        return path, {"error": f"{type(exc).__name__}: {exc}"}
+    if svg_dir:
+        name = Path(path).relative_to(DATA).as_posix().replace("/", "__")
+        write_sketch(result.to_sketch(), Path(svg_dir) / (Path(name).stem + ".svg"))
+    return path, measure(Path(path), sketch, [s.points for s in result.strokes])
+
+
+def far_ink(args: tuple[str, str]) -> tuple[str, float]:
+    """The share of a drawing's output moved by one stroke ten diagonals away."""
+    root, path = args
+    _setup(root)
+    from bench_simplify import diagonal
+    from metrics import changed
+
+    from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
+
+    sketch = read_sketch(path)
+    diag = diagonal(sketch)
+    pts = np.concatenate([s.points for s in sketch.strokes])
+    far = pts.max(axis=0) + 10 * diag + np.array([[0.0, 0.0], [0.02 * diag, 0.01 * diag]])
+    alone = simplify(sketch, SimplifyParams()).strokes
+    both = simplify(Sketch(list(sketch.strokes) + [Stroke(far)]), SimplifyParams()).strokes
+    near = [s.points for s in both if s.points.min(axis=0)[0] < pts.max(axis=0)[0] + diag]
+    return path, changed([s.points for s in alone], near, 0.005 * diag, 0.0025 * diag)
+
+
+def summary(rows: dict[str, dict]) -> str:
+    """Medians per source and overall, and the five worst sketches of each measure."""
+    lines = []
+    ok = {k: v for k, v in rows.items() if "error" not in v}
+    sources = sorted({k.split("/")[0] for k in ok})
+    for source in [*sources, "all"]:
+        mine = [v for k, v in ok.items() if source == "all" or k.startswith(source + "/")]
+        parts = []
+        for m in MEASURES:
+            vals = [v[m] for v in mine if m in v]
+            if vals:
+                parts.append(f"{m} {np.median(vals):.3f}")
+        lines.append(f"{source} ({len(mine)}): " + ", ".join(parts))
+    for m in ("doubled", "ink_kept", "per_in", "tight_recall"):
+        have = [(v[m], k) for k, v in ok.items() if m in v]
+        have.sort(reverse=not HIGHER_IS_BETTER[m])
+        lines.append(f"worst {m}: " + "; ".join(f"{Path(k).parent.parent.name}/"
+                                                  f"{Path(k).name[:28]} {x:.3f}"
+                                                  for x, k in have[:5]))
+    more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
+    lines.append(f"sketches with more strokes out than in: {len(more)}")
+    failed = [k for k, v in rows.items() if "error" in v]
+    lines.append(f"failures: {len(failed)} {failed[:3]}")
+    if "far_ink" in rows.get("_far", {}):
+        lines.append("far ink moved: " + ", ".join(f"{Path(k).name} {x:.3f}"
+                                                   for k, x in rows["_far"]["far_ink"].items()))
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out", nargs="?")
+    ap.add_argument("--root", default=str(HERE.parent), help="checkout to import core from")
+    ap.add_argument("--only", default="", help="substring of the sketch paths to run")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--svg", help="write each output SVG into this folder")
+    ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
+    args = ap.parse_args(argv)
+    if args.compare:
+        before, after = (json.loads(Path(p).read_text()) for p in args.compare)
+        print("BEFORE\n" + summary(before) + "\n\nAFTER\n" + summary(after))
+        return 0
+    if not DATA.is_dir():
+        print(f"no sketches at {DATA}: nothing to score")
+        return 0
+    files = sorted(str(p) for p in DATA.rglob("*.scap")
+                   if p.name != "full_fit.scap" and args.only in str(p))
+    if args.svg:
+        Path(args.svg).mkdir(parents=True, exist_ok=True)
+    root = str(Path(args.root).resolve())
+    with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        rows = dict(pool.map(score_one, [(root, f, args.svg) for f in files]))
+        far = [str(DATA / p) for p in FAR_INK if (DATA / p).exists() and args.only in p]
+        far_rows = dict(pool.map(far_ink, [(root, f) for f in far]))
+    out = {str(Path(k).relative_to(DATA)): v for k, v in rows.items()}
+    out["_far"] = {"far_ink": {str(Path(k).relative_to(DATA)): v for k, v in far_rows.items()}}
+    if args.out:
+        Path(args.out).write_text(json.dumps(out, indent=1))
+    print(summary(out))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
