@@ -25,11 +25,12 @@ from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier
 from .parallel import default_jobs, simplify_all
 from .params import SimplifyParams
 from .replay_cache import ReplayCache
-from .simplify import SimplifyResult, simplify
+from .simplify import PAPER_ALPHA, SimplifyResult, simplify
 from .sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "CleaningReport", "Normalisation",
+    "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "CleaningReport",
+    "Normalisation",
     "Patch", "ReplayCache", "Sketch", "SketchError", "Stroke", "SimplifyParams", "SimplifyResult",
     "build_base_complex", "clean_sketch", "curve_descriptors", "default_jobs", "evaluate_bezier",
     "fd_distance", "fourier_descriptor", "fourier_descriptors", "normalised_strokes",

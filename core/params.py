@@ -18,8 +18,13 @@ class SimplifyParams:
                   below this: the one slider (paper: 0.01-0.03, default 0.015); 0 merges
                   nothing
     samples       N, boundary samples of a Fourier descriptor (paper: 256)
-    alpha         d_eps = alpha * D, the stroke bundle width: curves closer than this may
-                  merge, and nothing merged away lies farther than this from what remains
+    alpha         the stroke bundle width d_eps: curves closer than this may merge, and
+                  nothing merged away lies farther than this from what remains. A number:
+                  d_eps = alpha * D, D the diagonal of the strokes' bounding box. "auto"
+                  (default): 0.012 (the paper's) of the drawing's own diagonal, which is D
+                  unless some ink lies far from the drawing (a stray mark, another panel):
+                  then the drawing is simplified as if alone. A result's params hold the
+                  number used
     beta          short-edge ratio to the patch perimeter for smoothing (paper: 0.04)
     gamma         |cos| of the angle below which two edges at a junction are taken as
                   crossing, not continuing (paper: 0.174, i.e. 80 degrees)
@@ -36,7 +41,7 @@ class SimplifyParams:
 
     epsilon: float = 0.015
     samples: int = 256
-    alpha: float = 0.012
+    alpha: float | str = "auto"
     beta: float = 0.04
     gamma: float = 0.174
     angle: float = 30.0
@@ -52,15 +57,17 @@ class SimplifyParams:
             if not ok:
                 raise SketchError(f"bad parameter: {message}")
 
-        for name in ("epsilon", "alpha", "beta", "gamma", "angle", "join_angle",
-                     "corner_angle", "fit_error"):
+        numbers = ("epsilon", "beta", "gamma", "angle", "join_angle", "corner_angle",
+                   "fit_error") + (() if self.alpha == "auto" else ("alpha",))
+        for name in numbers:
             value = getattr(self, name)
             check(isinstance(value, (int, float)) and math.isfinite(value),
                   f"{name} must be a finite number, got {value!r}")
         check(self.epsilon >= 0, f"epsilon must be >= 0, got {self.epsilon}")
         check(isinstance(self.samples, int) and self.samples >= 8 and self.samples % 2 == 0,
               f"samples (N) must be an even integer >= 8, got {self.samples!r}")
-        check(0 < self.alpha <= 0.2, f"alpha must be in (0, 0.2], got {self.alpha}")
+        check(self.alpha == "auto" or 0 < self.alpha <= 0.2,
+              f"alpha must be 'auto' or in (0, 0.2], got {self.alpha!r}")
         check(0 < self.beta <= 1, f"beta must be in (0, 1], got {self.beta}")
         check(0 <= self.gamma <= 1, f"gamma must be in [0, 1], got {self.gamma}")
         for name in ("angle", "join_angle", "corner_angle"):

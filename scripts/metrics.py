@@ -23,7 +23,7 @@ import numpy as np
 import shapely
 
 __all__ = [
-    "changed", "chamfer", "coverage", "doubled", "fidelity", "nearest_distances",
+    "changed", "chamfer", "coverage", "doubled", "doubled_samples", "fidelity", "nearest_distances",
     "precision_recall_f", "sample_points",
 ]
 
@@ -111,7 +111,14 @@ def _tangents(points: np.ndarray, which: np.ndarray) -> np.ndarray:
 
 def doubled(output: list[np.ndarray], ink: list[np.ndarray], clusters: list[int],
             diagonal: float) -> float:
-    """The share of output ink left doubled.
+    """The share of output ink left doubled (see :func:`doubled_samples`)."""
+    _, twin = doubled_samples(output, ink, clusters, diagonal)
+    return float(twin.mean()) if len(twin) else 0.0
+
+
+def doubled_samples(output: list[np.ndarray], ink: list[np.ndarray], clusters: list[int],
+                    diagonal: float) -> tuple[np.ndarray, np.ndarray]:
+    """The output samples counted, and whether each is doubled.
 
     Output ink is sampled every 0.25% of the diagonal, leaving out the first and last 3% of
     the diagonal of each stroke. A sample counts as doubled when its nearest sample of
@@ -121,14 +128,14 @@ def doubled(output: list[np.ndarray], ink: list[np.ndarray], clusters: list[int]
     """
     points, which, at = _samples(output, 0.0025 * diagonal)
     if not len(points):
-        return 0.0
+        return points, np.zeros(0, bool)
     tangents = _tangents(points, which)
     lengths = np.array([shapely.length(shapely.LineString(p)) if len(p) >= 2 else 0.0
                         for p in output])
     end = 0.03 * diagonal
     inner = np.flatnonzero((at >= end) & (at <= lengths[which] - end))
     if not len(inner):
-        return 0.0
+        return points[inner], np.zeros(0, bool)
     geoms = shapely.points(points)
     i, j = shapely.STRtree(geoms).query(geoms[inner], predicate="dwithin",
                                         distance=0.03 * diagonal)
@@ -150,4 +157,4 @@ def doubled(output: list[np.ndarray], ink: list[np.ndarray], clusters: list[int]
         near_j = ink_cluster[tree.query_nearest(geoms[j], all_matches=False)[1]]
         same = parallel & (near_i == near_j)
         twin[np.searchsorted(inner, i[same])] = True
-    return float(twin.mean())
+    return points[inner], twin

@@ -86,7 +86,7 @@ def far_ink(args: tuple[str, str]) -> tuple[str, float]:
 def summary(rows: dict[str, dict]) -> str:
     """Medians per source and overall, and the five worst sketches of each measure."""
     lines = []
-    ok = {k: v for k, v in rows.items() if "error" not in v}
+    ok = {k: v for k, v in rows.items() if not k.startswith("_") and "error" not in v}
     sources = sorted({k.split("/")[0] for k in ok})
     for source in [*sources, "all"]:
         mine = [v for k, v in ok.items() if source == "all" or k.startswith(source + "/")]
@@ -104,7 +104,7 @@ def summary(rows: dict[str, dict]) -> str:
                                                   for x, k in have[:5]))
     more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
     lines.append(f"sketches with more strokes out than in: {len(more)}")
-    failed = [k for k, v in rows.items() if "error" in v]
+    failed = [k for k, v in rows.items() if not k.startswith("_") and "error" in v]
     lines.append(f"failures: {len(failed)} {failed[:3]}")
     if "far_ink" in rows.get("_far", {}):
         lines.append("far ink moved: " + ", ".join(f"{Path(k).name} {x:.3f}"

@@ -33,7 +33,11 @@ class Plane:
 
 
 def drawing_plane(positions: np.ndarray) -> Plane:
-    """The plane through the points' centre spanned by their two main directions.
+    """The plane through the points' centre that fits them best, with its in-plane axes
+    aligned to the layer's X axis and "up" (Z, or Y for a top view) rather than to the
+    points' own main directions: those turn with the ink (a square drawing's are at any
+    angle, and a stray mark swings them round), and the simplification is measured in
+    this frame. A front-view drawing gets the X-Z plane exactly.
 
     Non-finite points (a NaN from a broken import) are left out; the core drops them."""
     pts = np.asarray(positions, dtype=np.float64)
@@ -41,10 +45,21 @@ def drawing_plane(positions: np.ndarray) -> Plane:
     if len(pts) == 0:
         raise SketchError("no point has finite coordinates")
     centre = pts.mean(axis=0)
-    _, sv, vt = np.linalg.svd(pts - centre, full_matrices=False)
+    _, sv, vt = np.linalg.svd(pts - centre, full_matrices=True)
     if len(sv) < 2 or sv[1] <= 1e-12 * max(sv[0], 1e-300):
         return Plane(centre, np.array([[1.0, 0, 0], [0, 0, 1.0]]))  # a line: use X-Z
-    return Plane(centre, vt[:2])
+    normal = vt[2]
+    first = None
+    for axis in np.eye(3):  # X, then Y, then Z: the first that lies in the plane enough
+        along = axis - normal * (normal @ axis)
+        if np.linalg.norm(along) > 0.3:
+            first = along / np.linalg.norm(along)
+            break
+    second = np.cross(normal, first)
+    up = np.array([0.0, 0, 1]) if abs(second[2]) > 1e-9 else np.array([0.0, 1, 0])
+    if second @ up < 0:
+        second = -second
+    return Plane(centre, np.stack([first, second]))
 
 
 def drawing_from_polylines(polylines: list[np.ndarray], closed: list[bool]) -> DrawingData:

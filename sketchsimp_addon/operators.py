@@ -88,5 +88,9 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")
-        for name in ("alpha", "samples", "angle", "beta", "join_angle", "corner_angle"):
+        box.prop(self, "auto_width")
+        row = box.row()
+        row.active = not self.auto_width
+        row.prop(self, "alpha")
+        for name in ("samples", "angle", "beta", "join_angle", "corner_angle"):
             box.prop(self, name)

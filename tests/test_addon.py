@@ -11,6 +11,7 @@ from blender_scene import (
     SCALE,
     clear_scene,
     drawn_strokes,
+    fill_drawing,
     load_extension,
     make_object,
     sample_points,
@@ -179,6 +180,26 @@ def test_extension_package_installs_and_runs(tmp_path):
     # the bundled wheels were installed for the extension (Blender has no shapely)
     assert {"shapely-2.1.2.dist-info", "svgelements-1.9.6.dist-info",
             "defusedxml-0.7.1.dist-info"} <= set(info["wheels"])
+
+
+def test_a_stray_mark_far_away_on_the_layer_changes_nothing_of_the_drawing():
+    house = sample_points("house")
+    size = float(np.hypot(*np.ptp(np.concatenate(house)[:, [0, 2]], axis=0)))
+    mark = np.array([[20 * size, 0, 0], [20 * size + 0.05 * size, 0, 0.01 * size]], np.float32)
+    counts = []
+    for extra, (name, auto) in [([], ("Alone", True)), ([mark], ("Stray", True)),
+                                ([mark], ("Canvas", False))]:
+        ob = make_object({1: None}, name=name)
+        fill_drawing(ob.data.layers["Lines"].frames[0].drawing, house + extra)
+        bpy.context.view_layer.objects.active = ob
+        assert bpy.ops.sketchsimp.simplify(auto_width=auto) == {"FINISHED"}
+        out = strokes_of(ob.data.layers["Lines simplified"].frames[0].drawing)
+        counts.append(sum(float(s[:, 0].min()) < 10 * size for s in out))
+        for other in bpy.data.objects:
+            other.select_set(False)
+    alone, stray, canvas = counts
+    assert stray == alone  # the mark is simplified apart; the house as it was alone
+    assert canvas < alone  # the canvas-wide width (auto off) merges the house away
 
 
 def test_selected_strokes_only():

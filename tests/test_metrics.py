@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from metrics import changed, chamfer, coverage, doubled, fidelity, precision_recall_f
+from metrics import chamfer, changed, coverage, doubled, fidelity, precision_recall_f
 
 
 def drawing():

@@ -12,7 +12,7 @@ import shapely
 from helpers import ROOT, SAMPLES, require_data
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from metrics import coverage, fidelity
+from metrics import changed, coverage, fidelity
 from test_base_complex import overshooting_side, short_crossing
 
 from core import Sketch, SketchError, Stroke, read_sketch, simplify
@@ -193,8 +193,8 @@ def test_result_reports_counts_timings_and_regions():
 
 
 @pytest.mark.parametrize("params", [dict(epsilon=-0.1), dict(samples=4), dict(samples=7),
-                                    dict(alpha=0), dict(epsilon=float("nan")),
-                                    dict(target_patches=-1)])
+                                    dict(alpha=0), dict(alpha="wide"), dict(alpha=0.5),
+                                    dict(epsilon=float("nan")), dict(target_patches=-1)])
 def test_bad_parameters_are_clear_errors(params):
     with pytest.raises(SketchError, match="bad parameter"):
         SimplifyParams(**params)
@@ -217,6 +217,10 @@ def test_command_line(tmp_path):
     assert run.returncode == 0, run.stderr
     info = json.loads(stats.read_text())
     assert info["params"]["epsilon"] == 0.02
+    # the width used, resolved from "auto": the paper's 1.2% of the drawing's diagonal
+    assert info["params"]["alpha"] == 0.012
+    assert info["bundle_width"] == pytest.approx(0.012 * np.hypot(*np.ptp(np.concatenate(
+        [s.points for s in read_sketch(SAMPLES / "house.scap").strokes]), axis=0)))
     assert out.read_text().count("<path") == info["counts"]["after"]["strokes"]
     again = read_sketch(out)
     assert len(again.strokes) == info["counts"]["after"]["strokes"]
@@ -302,3 +306,43 @@ def test_replay_cache_gives_fresh_results_and_runs_once():
     cache.strokes(sketch, SimplifyParams(epsilon=0.05))
     cache.strokes(sketch, SimplifyParams(epsilon=0.015, alpha=0.02))
     assert cache.runs == 3  # beyond what the run covered, and other parameters
+
+
+def _moved(a: list[Stroke], b: list[Stroke], size: float) -> float:
+    """The share of either output farther than 0.5% of the drawing's size from the other."""
+    return changed([s.points for s in a], [s.points for s in b], 0.005 * size, 0.001 * size)
+
+
+@pytest.mark.parametrize("name", ["house", "fish", "cup"])
+def test_a_stroke_far_away_leaves_the_drawing_as_it_was(name):
+    sketch = read_sketch(SAMPLES / f"{name}.scap")
+    pts = np.concatenate([s.points for s in sketch.strokes])
+    size = float(np.hypot(*np.ptp(pts, axis=0)))
+    far = pts.max(axis=0) + 10 * size + np.array([[0.0, 0.0], [0.02 * size, 0.01 * size]])
+    alone = simplify(sketch).strokes
+    both = simplify(Sketch(list(sketch.strokes) + [Stroke(far)])).strokes
+    near = [s for s in both if s.points.min(axis=0)[0] < pts.max(axis=0)[0] + size]
+    assert len(both) == len(near) + 1  # the far mark is an output stroke of its own
+    assert len(near) == len(alone)
+    # the same strokes, but for the noding grid: 1e-6 of the whole extent, now 10x coarser
+    assert _moved(alone, near, size) <= 0.02
+    canvas = simplify(Sketch(list(sketch.strokes) + [Stroke(far)]), SimplifyParams(alpha=0.012))
+    assert _moved(alone, [s for s in canvas.strokes if s.points.min(axis=0)[0]
+                          < pts.max(axis=0)[0] + size], size) > 0.2  # the paper's frame
+
+
+def test_a_scaled_and_moved_sketch_gives_the_same_strokes_transformed():
+    sketch = read_sketch(SAMPLES / "house.scap")
+    size = float(np.hypot(*np.ptp(np.concatenate([s.points for s in sketch.strokes]), axis=0)))
+    moved = Sketch([Stroke(s.points * 10.0 + [1234.5, -987.0]) for s in sketch.strokes])
+    a, b = simplify(sketch).strokes, simplify(moved).strokes
+    back = [Stroke((s.points - [1234.5, -987.0]) / 10.0) for s in b]
+    assert len(a) == len(b) and _moved(a, back, size) <= 0.02
+
+
+def test_alpha_given_as_a_number_is_a_fraction_of_the_whole_diagonal():
+    sketch = read_sketch(SAMPLES / "house.scap")
+    assert simplify(sketch, SimplifyParams(alpha=0.02)).params.alpha == 0.02
+    wide = Sketch(list(sketch.strokes) + [Stroke(np.array([[1e4, 1e4], [1e4 + 5, 1e4]]))])
+    assert simplify(wide, SimplifyParams(alpha=0.012)).params.alpha == 0.012
+    assert simplify(wide).params.alpha < 0.012 / 20  # "auto": of the drawing, not of D

@@ -43,9 +43,9 @@ def parser() -> argparse.ArgumentParser:
     one.add_argument("--epsilon", type=float, default=d.epsilon,
                      help="how far to simplify: largest shape change merged (default "
                           "%(default)s)")
-    one.add_argument("--alpha", type=float, default=d.alpha,
-                     help="stroke bundle width as a fraction of the diagonal (default "
-                          "%(default)s)")
+    one.add_argument("--alpha", type=_alpha, default=d.alpha,
+                     help="stroke bundle width: 'auto' (%(default)s: 1.2%% of the drawing's "
+                          "own diagonal) or a fraction of the whole diagonal")
     one.add_argument("--samples", type=int, default=d.samples,
                      help="Fourier descriptor samples N (default %(default)s)")
     one.add_argument("--stats", help="write counts and timings to this JSON file")
@@ -71,6 +71,16 @@ def parser() -> argparse.ArgumentParser:
     return top
 
 
+def _alpha(text: str) -> float | str:
+    """--alpha: "auto" or a number."""
+    if text == "auto":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'auto' or a number, not {text!r}") from None
+
+
 def run_simplify(args: argparse.Namespace) -> int:
     out = Path(args.output)
     if out.suffix.lower() not in (".svg", ".scap"):
@@ -82,7 +92,9 @@ def run_simplify(args: argparse.Namespace) -> int:
     print(f"{args.input}: {before['strokes']} strokes -> {after['strokes']} in "
           f"{result.timings['total']:.2f} s, written to {out}")
     if args.stats:
-        stats = {"input": str(args.input), "output": str(out), "params": params.as_dict(),
+        stats = {"input": str(args.input), "output": str(out),
+                 "params": result.params.as_dict(),  # alpha as resolved: the width used
+                 "bundle_width": result.params.alpha * result.normalisation.scale,
                  "counts": result.counts, "cleaning": result.cleaning.as_dict(),
                  "merges": len(result.history),
                  "timings": {k: round(v, 6) for k, v in result.timings.items()}}
