@@ -12,19 +12,19 @@ __all__ = ["SimplifyParams"]
 
 @dataclass(frozen=True)
 class SimplifyParams:
-    """What controls :func:`core.simplify`. Distances are fractions of the diagonal D.
+    """What controls :func:`core.simplify`. Distances are fractions of the diagonal D of
+    the drawing: the strokes' bounding box, unless some ink lies far from the drawing (a
+    stray mark, another panel), which is then left out of D so that the drawing is
+    simplified as if alone (:func:`core.io.cleaning.drawing_box`).
 
     epsilon       merge while the cheapest shape change (Fourier descriptor distance) is
                   below this: the one slider (paper: 0.01-0.03, default 0.015); 0 merges
                   nothing
     samples       N, boundary samples of a Fourier descriptor (paper: 256)
-    alpha         the stroke bundle width d_eps: curves closer than this may merge, and
-                  nothing merged away lies farther than this from what remains. A number:
-                  d_eps = alpha * D, D the diagonal of the strokes' bounding box. "auto"
-                  (default): 0.012 (the paper's) of the drawing's own diagonal, which is D
-                  unless some ink lies far from the drawing (a stray mark, another panel):
-                  then the drawing is simplified as if alone. A result's params hold the
-                  number used
+    alpha         the stroke bundle width d_eps = alpha * D: curves closer than this may
+                  merge, and nothing merged away lies farther than this from what remains.
+                  "auto" (default): SketchSimp's choice, today the paper's 0.012. A
+                  result's params hold the number used
     beta          short-edge ratio to the patch perimeter for smoothing (paper: 0.04)
     gamma         |cos| of the angle below which two edges at a junction are taken as
                   crossing, not continuing (paper: 0.174, i.e. 80 degrees)

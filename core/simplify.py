@@ -5,7 +5,6 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 
-import numpy as np
 import shapely
 
 from .arrays.geometry import polygons_from
@@ -16,7 +15,6 @@ from .io.cleaning import (
     CleaningReport,
     Normalisation,
     clean_sketch,
-    drawing_fraction,
     normalised_strokes,
 )
 from .merge.agglomeration import AgglomerationStats, agglomerate
@@ -108,22 +106,14 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
                           stats, sketch, ink, memo)
 
 
-#: the bundle width as a fraction of the drawing's diagonal (the paper's alpha)
+#: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
 PAPER_ALPHA = 0.012
 
 
-def resolved(params: SimplifyParams, unit: list[np.ndarray]) -> SimplifyParams:
-    """``params`` with alpha a number, a fraction of D (the unit frame's diagonal): when
-    "auto", the paper's alpha of the drawing's own diagonal, which is D unless ink lies
-    far from the drawing (:func:`core.io.cleaning.drawing_fraction`)."""
-    if params.alpha != "auto":
-        return params
-    return replace(params, alpha=max(PAPER_ALPHA * drawing_fraction(unit), MIN_ALPHA))
-
-
-#: the smallest alpha "auto" gives: a drawing this small beside far ink is at the noding
-#: grid's scale (1e-6 of D) and cannot be simplified apart from it
-MIN_ALPHA = 1e-4
+def resolved(params: SimplifyParams) -> SimplifyParams:
+    """``params`` with alpha a number, a fraction of the drawing's diagonal (the unit
+    frame's, :class:`core.io.cleaning.Normalisation`): "auto" is the paper's."""
+    return replace(params, alpha=PAPER_ALPHA) if params.alpha == "auto" else params
 
 
 def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyResult:
@@ -137,7 +127,7 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     t0 = time.perf_counter()
     cleaned, report = clean_sketch(sketch)
     unit, norm = normalised_strokes(cleaned)
-    params = resolved(params, unit)
+    params = resolved(params)
     t1 = time.perf_counter()
     if params.max_curves is not None:
         crossings = more_crossings_than(unit, params.max_curves // 2)
@@ -159,4 +149,4 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     return result
 
 
-__all__ = ["MIN_ALPHA", "PAPER_ALPHA", "SimplifyResult", "resolved", "simplify"]
+__all__ = ["PAPER_ALPHA", "SimplifyResult", "resolved", "simplify"]

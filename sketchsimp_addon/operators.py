@@ -88,9 +88,5 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")
-        box.prop(self, "auto_width")
-        row = box.row()
-        row.active = not self.auto_width
-        row.prop(self, "alpha")
-        for name in ("samples", "angle", "beta", "join_angle", "corner_angle"):
+        for name in ("alpha", "samples", "angle", "beta", "join_angle", "corner_angle"):
             box.prop(self, name)

@@ -45,15 +45,11 @@ class SimplifyOptions:
     as_curve: BoolProperty(name="As Curve Object", default=False,
                            description="Write the result as a Bezier curve object (one per "
                            "layer, from the first drawing simplified) instead of strokes")
-    auto_width: BoolProperty(
-        name="Auto Bundle Width", default=DEFAULTS.alpha == "auto",
-        description="Take the bundle width from the drawing itself (1.2% of its size), so "
-        "that a stray mark far away on the layer changes nothing; off: Bundle Width below")
     alpha: FloatProperty(
         name="Bundle Width", default=PAPER_ALPHA, min=0.001, max=0.2, precision=3,
-        description="Width of a bundle of rough strokes as a fraction of the size of all the "
-        "strokes together: strokes closer than this may merge (alpha). Used when Auto "
-        "Bundle Width is off")
+        description="Width of a bundle of rough strokes as a fraction of the drawing's size "
+        "(a stray mark far away on the layer does not count): strokes closer than this may "
+        "merge (alpha)")
     samples: IntProperty(name="Shape Samples", default=DEFAULTS.samples, min=8, max=2048,
                          description="Points used to compare shapes (Fourier descriptor N); "
                          "more is finer and slower")
@@ -70,8 +66,7 @@ class SimplifyOptions:
                                 "stay sharp corners of the output curves")
 
     def params(self) -> SimplifyParams:
-        return SimplifyParams(epsilon=self.epsilon,
-                              alpha="auto" if self.auto_width else self.alpha,
+        return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha,
                               samples=self.samples - self.samples % 2, angle=self.angle,
                               beta=self.beta, join_angle=self.join_angle,
                               corner_angle=self.corner_angle)

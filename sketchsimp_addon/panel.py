@@ -9,8 +9,8 @@ from .options import SimplifyOptions
 
 __all__ = ["OPTION_NAMES", "SKETCHSIMP_PT_panel", "SketchSimpSettings"]
 
-OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "as_curve", "auto_width",
-                "alpha", "samples", "angle", "beta", "join_angle", "corner_angle")
+OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "as_curve", "alpha",
+                "samples", "angle", "beta", "join_angle", "corner_angle")
 
 
 class SketchSimpSettings(SimplifyOptions, bpy.types.PropertyGroup):

@@ -324,11 +324,9 @@ def test_a_stroke_far_away_leaves_the_drawing_as_it_was(name):
     near = [s for s in both if s.points.min(axis=0)[0] < pts.max(axis=0)[0] + size]
     assert len(both) == len(near) + 1  # the far mark is an output stroke of its own
     assert len(near) == len(alone)
-    # the same strokes, but for the noding grid: 1e-6 of the whole extent, now 10x coarser
+    # in the drawing's own frame the drawing's strokes are the same to the bit; what can
+    # differ is only the order of ties among primitive ids, which the far mark shifts
     assert _moved(alone, near, size) <= 0.02
-    canvas = simplify(Sketch(list(sketch.strokes) + [Stroke(far)]), SimplifyParams(alpha=0.012))
-    assert _moved(alone, [s for s in canvas.strokes if s.points.min(axis=0)[0]
-                          < pts.max(axis=0)[0] + size], size) > 0.2  # the paper's frame
 
 
 def test_a_scaled_and_moved_sketch_gives_the_same_strokes_transformed():
@@ -340,9 +338,11 @@ def test_a_scaled_and_moved_sketch_gives_the_same_strokes_transformed():
     assert len(a) == len(b) and _moved(a, back, size) <= 0.02
 
 
-def test_alpha_given_as_a_number_is_a_fraction_of_the_whole_diagonal():
+def test_alpha_is_a_fraction_of_the_drawing_and_auto_is_the_papers():
     sketch = read_sketch(SAMPLES / "house.scap")
+    assert simplify(sketch).params.alpha == 0.012
     assert simplify(sketch, SimplifyParams(alpha=0.02)).params.alpha == 0.02
     wide = Sketch(list(sketch.strokes) + [Stroke(np.array([[1e4, 1e4], [1e4 + 5, 1e4]]))])
-    assert simplify(wide, SimplifyParams(alpha=0.012)).params.alpha == 0.012
-    assert simplify(wide).params.alpha < 0.012 / 20  # "auto": of the drawing, not of D
+    result = simplify(wide, SimplifyParams(alpha=0.012))
+    size = float(np.hypot(*np.ptp(np.concatenate([s.points for s in sketch.strokes]), axis=0)))
+    assert result.normalisation.scale == pytest.approx(size)  # the drawing's, not the canvas's

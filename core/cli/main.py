@@ -44,8 +44,8 @@ def parser() -> argparse.ArgumentParser:
                      help="how far to simplify: largest shape change merged (default "
                           "%(default)s)")
     one.add_argument("--alpha", type=_alpha, default=d.alpha,
-                     help="stroke bundle width: 'auto' (%(default)s: 1.2%% of the drawing's "
-                          "own diagonal) or a fraction of the whole diagonal")
+                     help="stroke bundle width as a fraction of the drawing's diagonal, or "
+                          "'auto' (default: the paper's 0.012)")
     one.add_argument("--samples", type=int, default=d.samples,
                      help="Fourier descriptor samples N (default %(default)s)")
     one.add_argument("--stats", help="write counts and timings to this JSON file")

@@ -9,7 +9,7 @@ import numpy as np
 from ..sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "REACH", "clean_sketch", "clean_stroke", "CleaningReport", "drawing_fraction", "Normalisation",
+    "REACH", "clean_sketch", "clean_stroke", "CleaningReport", "drawing_box", "Normalisation",
     "normalised_strokes",
 ]
 
@@ -80,7 +80,10 @@ MIN_EXTENT, MAX_EXTENT = 1e-150, 1e150
 
 @dataclass(frozen=True)
 class Normalisation:
-    """Maps drawing coordinates to a frame whose bounding box has diagonal 1 and back."""
+    """Maps sketch coordinates to the drawing's frame and back: the drawing's box (all the
+    strokes' bounding box unless some ink lies far from the drawing, :func:`drawing_box`)
+    has its corner at 0 and diagonal 1. The drawing's strokes get the same coordinates
+    there, to the bit, whatever ink lies far away."""
 
     origin: tuple[float, float]
     scale: float
@@ -94,7 +97,12 @@ class Normalisation:
         if not MIN_EXTENT <= diag <= MAX_EXTENT:
             raise SketchError(f"the sketch's extent {diag:.3g} is outside {MIN_EXTENT:.0e} to "
                               f"{MAX_EXTENT:.0e}, where distances cannot be measured")
-        return cls((x0, y0), diag)
+        x0, y0, x1, y1 = drawing_box([s.points for s in sketch.strokes]).tolist()
+        drawing = float(np.hypot(x1 - x0, y1 - y0))
+        if not drawing >= MIN_EXTENT:
+            raise SketchError(f"the drawing's extent {drawing:.3g} is below {MIN_EXTENT:.0e} "
+                              "beside ink far away, where distances cannot be measured")
+        return cls((x0, y0), drawing)
 
     def to_unit(self, points: np.ndarray) -> np.ndarray:
         return (points - np.asarray(self.origin)) / self.scale
@@ -110,15 +118,15 @@ def normalised_strokes(sketch: Sketch) -> tuple[list[np.ndarray], Normalisation]
 
 
 #: a stroke whose box comes within this fraction of the drawing's diagonal of the drawing
-#: belongs to it (drawing_fraction). At 0.1, separate letters of a word (12345_label,
+#: belongs to it (drawing_box). At 0.1, separate letters of a word (12345_label,
 #: ghi_SA) and a detached part of a product sketch (student7 vacuum_cleaner) were split
 #: into drawings of their own; at 0.25 each of the 101 dev sketches is one drawing
 REACH = 0.25
 
 
-def drawing_fraction(strokes: list[np.ndarray]) -> float:
-    """The diagonal of the drawing that holds the bulk of the ink, as a fraction of the
-    diagonal of all the strokes' bounding box: 1.0 exactly when the strokes are one drawing.
+def drawing_box(strokes: list[np.ndarray]) -> np.ndarray:
+    """The box (x0, y0, x1, y1) of the drawing that holds the bulk of the ink: the strokes'
+    bounding box, exactly, when they are one drawing.
 
     Lengths that decide what merges follow the drawing, not the canvas: one stray mark ten
     diagonals away must not make the drawing's bundles ten times narrower. The drawing
@@ -132,10 +140,10 @@ def drawing_fraction(strokes: list[np.ndarray]) -> float:
 
     >>> t = np.linspace(0, 1, 50)[:, None]
     >>> cross = [np.hstack([t, t]), np.hstack([t, 1 - t])]
-    >>> drawing_fraction(cross)
-    1.0
-    >>> round(drawing_fraction(cross + [np.array([[30., 30], [30.1, 30]])]), 4)
-    0.0333
+    >>> drawing_box(cross).tolist()
+    [0.0, 0.0, 1.0, 1.0]
+    >>> drawing_box(cross + [np.array([[30., 30], [30.1, 30]])]).tolist()
+    [0.0, 0.0, 1.0, 1.0]
     """
     boxes = np.array([[*s.min(axis=0), *s.max(axis=0)] for s in strokes])
     points = np.concatenate(strokes)
@@ -150,7 +158,4 @@ def drawing_fraction(strokes: list[np.ndarray]) -> float:
             break
         member |= near
         region = np.concatenate([boxes[member, :2].min(axis=0), boxes[member, 2:].max(axis=0)])
-    if member.all():
-        return 1.0
-    whole = np.concatenate([boxes[:, :2].min(axis=0), boxes[:, 2:].max(axis=0)])
-    return float(np.hypot(*(region[2:] - region[:2])) / np.hypot(*(whole[2:] - whole[:2])))
+    return region
