@@ -18,7 +18,7 @@ from test_base_complex import overshooting_side, short_crossing
 from core import Sketch, SketchError, Stroke, read_sketch, simplify
 from core.arrays.geometry import lines_from
 from core.output.stroke_graph import Edge, build_graph
-from core.output.to_strokes import trim_spurs
+from core.output.to_strokes import join_edges, trim_spurs
 from core.params import SimplifyParams
 
 
@@ -346,3 +346,25 @@ def test_alpha_is_a_fraction_of_the_drawing_and_auto_is_the_papers():
     result = simplify(wide, SimplifyParams(alpha=0.012))
     size = float(np.hypot(*np.ptp(np.concatenate([s.points for s in sketch.strokes]), axis=0)))
     assert result.normalisation.scale == pytest.approx(size)  # the drawing's, not the canvas's
+
+
+def test_an_x_of_two_long_strokes_gives_two_strokes():
+    t = np.linspace(0, 1, 80)[:, None]
+    x = Sketch([Stroke(np.hstack([t, 0.3 * t])), Stroke(np.hstack([t, 0.3 - 0.3 * t]))])
+    assert len(simplify(x).strokes) == 2
+
+
+def test_at_a_junction_as_many_lines_as_can_continue_do():
+    """Four ends at a junction: the straightest pair (12 degrees) would leave the other two
+    to meet at 52 degrees, past the join angle, and cut; pairing each with its second
+    best (24 and 16 degrees) lets both lines continue."""
+    def leaving(degrees: float) -> Edge:
+        a = np.radians(degrees)
+        return Edge(np.array([[0.0, 0.0], [0.3 * np.cos(a), 0.3 * np.sin(a)]]))
+
+    graph = build_graph([leaving(d) for d in (0, 192, 156, 28)], 0.001)
+    joined = join_edges(graph, SimplifyParams(alpha=0.012))
+    assert len(joined) == 2
+    pairs = {tuple(sorted(round(float(np.degrees(np.arctan2(p[1], p[0])))) % 360
+                          for p in e.points[[0, -1]])) for e in joined}
+    assert pairs == {(0, 156), (28, 192)}

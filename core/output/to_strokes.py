@@ -38,8 +38,8 @@ from .memo import StrokeMemo, shape_key
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
 __all__ = [
-    "FittedStroke", "contract_short_edges", "join_edges", "linework", "renode", "split_at_tips",
-    "to_strokes", "trim_spurs",
+    "EXACT_JUNCTION", "FittedStroke", "continuations", "contract_short_edges", "join_edges",
+    "linework", "renode", "split_at_tips", "to_strokes", "trim_spurs",
 ]
 
 
@@ -147,6 +147,55 @@ def contract_short_edges(graph: StrokeGraph, d_eps: float, beta: float) -> Strok
     return rebuild(moved, ~short | (ends[:, 0] != ends[:, 1]))
 
 
+#: junctions with more ends than this pair them greedily, smoothest first: the exact
+#: matching looks at 2^n sets of ends (a busy junction of a dense sketch has dozens)
+EXACT_JUNCTION = 10
+
+
+def continuations(n: int, smooth: dict[tuple[int, int], float]) -> list[tuple[int, int]]:
+    """Which of ``n`` ends meeting at a junction continue each other: as many of the
+    ``smooth`` pairs (x < y, with how straight each continues, a cosine) as can be taken
+    together, and of those the straightest in all.
+
+    Taking the straightest pair first, as a greedy pairing does, can leave two lines cut
+    where a fork of passes meets another line: ends 0-1 continue best, and then 2 and 3
+    fit neither; 0-2 and 1-3, each smooth, continue both lines.
+
+    >>> continuations(4, {(0, 1): 0.98, (0, 2): 0.91, (1, 3): 0.96})
+    [(0, 2), (1, 3)]
+    """
+    if n > EXACT_JUNCTION:  # greedy, smoothest first
+        used: set[int] = set()
+        chosen = []
+        for (x, y), _ in sorted(smooth.items(), key=lambda item: -item[1]):
+            if x not in used and y not in used:
+                used.update((x, y))
+                chosen.append((x, y))
+        return sorted(chosen)
+    partners: dict[int, list[tuple[int, float]]] = {}
+    for (x, y), cos in smooth.items():
+        partners.setdefault(x, []).append((y, cos))
+    best: dict[int, tuple[int, float, tuple]] = {}
+
+    def match(free: int) -> tuple[int, float, tuple]:
+        """The best matching of the ends in bitmask ``free``: (pairs, total cos, pairs)."""
+        if free in best:
+            return best[free]
+        if free == 0:
+            return 0, 0.0, ()
+        x = (free & -free).bit_length() - 1  # the lowest free end: paired, or left alone
+        result = match(free & ~(1 << x))
+        for y, cos in partners.get(x, ()):
+            if free >> y & 1:
+                count, total, pairs = match(free & ~(1 << x) & ~(1 << y))
+                if (count + 1, total + cos) > result[:2]:
+                    result = (count + 1, total + cos, ((x, y), *pairs))
+        best[free] = result
+        return result
+
+    return sorted(match((1 << n) - 1)[2])
+
+
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True
                ) -> list[Edge]:
     """Chain edges through degree-2 nodes and, if asked, smooth junction crossings."""
@@ -168,14 +217,10 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
                 link[ends[0]], link[ends[1]] = ends[1], ends[0]
             continue
         # continuing straight: leaving directions opposite, cos = -(d1 . d2) close to 1
-        pairs = sorted(((-(dirs[x] @ dirs[y]), x, y) for x in range(len(ends))
-                        for y in range(x + 1, len(ends))), reverse=True)
-        used: set[int] = set()
-        for cos, x, y in pairs:
-            if (cos < cos_join or abs(cos) < params.gamma or x in used or y in used
-                    or ends[x] >> 1 == ends[y] >> 1):
-                continue
-            used.update((x, y))
+        smooth = {(x, y): cos for x in range(len(ends)) for y in range(x + 1, len(ends))
+                  if (cos := float(-(dirs[x] @ dirs[y]))) >= cos_join
+                  and abs(cos) >= params.gamma and ends[x] >> 1 != ends[y] >> 1}
+        for x, y in continuations(len(ends), smooth):
             link[ends[x]], link[ends[y]] = ends[y], ends[x]
     strokes = []
     done = np.zeros(n_edges, dtype=bool)
