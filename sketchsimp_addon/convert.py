@@ -46,9 +46,14 @@ def drawing_plane(positions: np.ndarray) -> Plane:
         raise SketchError("no point has finite coordinates")
     centre = pts.mean(axis=0)
     _, sv, vt = np.linalg.svd(pts - centre, full_matrices=True)
-    if len(sv) < 2 or sv[1] <= 1e-12 * max(sv[0], 1e-300):
-        return Plane(centre, np.array([[1.0, 0, 0], [0, 0, 1.0]]))  # a line: use X-Z
-    normal = vt[2]
+    if len(sv) < 2 or sv[0] <= 1e-300:
+        return Plane(centre, np.array([[1.0, 0, 0], [0, 0, 1.0]]))  # one point: X-Z
+    if sv[1] <= 1e-12 * sv[0]:  # on one line: any plane through it, the most upright
+        direction = vt[0]
+        normal = np.cross(direction, [0.0, 0, 1] if abs(direction[2]) < 0.9 else [0.0, 1, 0])
+        normal /= np.linalg.norm(normal)
+    else:
+        normal = vt[2]
     first = None
     for axis in np.eye(3):  # X, then Y, then Z: the first that lies in the plane enough
         along = axis - normal * (normal @ axis)

@@ -112,3 +112,19 @@ def test_curve_splines_read_as_a_drawing_with_grease_pencil_defaults():
     data = drawing_from_polylines(lines, [False, True])
     assert data.num_strokes == 2 and data.offsets.tolist() == [0, 3, 5]
     assert np.all(data.radius == np.float32(0.01)) and np.all(data.opacity == 1)
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_strokes_along_one_axis_keep_their_length(axis):
+    """Strokes lying exactly on one line (along X, Y or Z) are on a plane through it:
+    along Y they used to be projected onto X-Z, each to a single point."""
+    t = np.linspace(0, 1, 20)
+    strokes = []
+    for k in range(5):
+        p = np.zeros((20, 3))
+        p[:, axis] = t + 2 * k
+        strokes.append(p)
+    data = drawing_of(strokes)
+    sketch = to_sketch(data, list(range(5)), drawing_plane(data.positions))
+    for s in sketch.strokes:
+        assert np.hypot(*np.ptp(s.points, axis=0)) == pytest.approx(1.0, rel=1e-6)
