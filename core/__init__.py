@@ -23,9 +23,9 @@ from .io.files import read_sketch, write_sketch
 from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
 from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier
 from .parallel import default_jobs, simplify_all
-from .params import SimplifyParams
+from .params import PAPER_ALPHA, SimplifyParams
 from .replay_cache import ReplayCache
-from .simplify import PAPER_ALPHA, SimplifyResult, simplify
+from .simplify import SimplifyResult, simplify
 from .sketch import Sketch, SketchError, Stroke
 
 __all__ = [

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 from .sketch import SketchError
 
-__all__ = ["SimplifyParams"]
+__all__ = ["PAPER_ALPHA", "SimplifyParams"]
+
+#: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
+PAPER_ALPHA = 0.012
 
 
 @dataclass(frozen=True)
@@ -77,6 +80,15 @@ class SimplifyParams:
             value = getattr(self, name)
             check(value is None or (isinstance(value, int) and value >= 0),
                   f"{name} must be a whole number >= 0 or None, got {value!r}")
+
+    def resolved(self) -> SimplifyParams:
+        """These params with alpha a number, a fraction of the drawing's diagonal (the unit
+        frame's, :class:`core.io.cleaning.Normalisation`): "auto" is the paper's.
+
+        >>> SimplifyParams().resolved().alpha, SimplifyParams(alpha=0.02).resolved().alpha
+        (0.012, 0.02)
+        """
+        return replace(self, alpha=PAPER_ALPHA) if self.alpha == "auto" else self
 
     def as_dict(self) -> dict:
         return asdict(self)

@@ -106,16 +106,6 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
                           stats, sketch, ink, memo)
 
 
-#: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
-PAPER_ALPHA = 0.012
-
-
-def resolved(params: SimplifyParams) -> SimplifyParams:
-    """``params`` with alpha a number, a fraction of the drawing's diagonal (the unit
-    frame's, :class:`core.io.cleaning.Normalisation`): "auto" is the paper's."""
-    return replace(params, alpha=PAPER_ALPHA) if params.alpha == "auto" else params
-
-
 def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyResult:
     """Simplify a rough sketch into few long smooth strokes.
 
@@ -127,7 +117,7 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     t0 = time.perf_counter()
     cleaned, report = clean_sketch(sketch)
     unit, norm = normalised_strokes(cleaned)
-    params = resolved(params)
+    params = params.resolved()
     t1 = time.perf_counter()
     if params.max_curves is not None:
         crossings = more_crossings_than(unit, params.max_curves // 2)
@@ -149,4 +139,4 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     return result
 
 
-__all__ = ["PAPER_ALPHA", "SimplifyResult", "resolved", "simplify"]
+__all__ = ["SimplifyResult", "simplify"]
