@@ -39,7 +39,7 @@ FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
            "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/trash_bin/view1/"
            "lines_separation/full_cluster.scap")
 
-__all__ = ["main", "summary"]
+__all__ = ["main", "short_name", "summary"]
 
 
 def _setup(root: str) -> None:
@@ -83,6 +83,14 @@ def far_ink(args: tuple[str, str]) -> tuple[str, float]:
     return path, changed([s.points for s in alone], near, 0.005 * diag, 0.0025 * diag)
 
 
+def short_name(key: str) -> str:
+    """A sketch's path under the data folder, shortened: designer/object for lift3d."""
+    parts = Path(key).parts
+    if parts[-1] == "full_cluster.scap":
+        return f"{parts[-5]}/{parts[-4]}"
+    return Path(key).stem
+
+
 def summary(rows: dict[str, dict]) -> str:
     """Medians per source and overall, and the five worst sketches of each measure."""
     lines = []
@@ -99,15 +107,14 @@ def summary(rows: dict[str, dict]) -> str:
     for m in ("doubled", "ink_kept", "per_in", "tight_recall"):
         have = [(v[m], k) for k, v in ok.items() if m in v]
         have.sort(reverse=not HIGHER_IS_BETTER[m])
-        lines.append(f"worst {m}: " + "; ".join(f"{Path(k).parent.parent.name}/"
-                                                  f"{Path(k).name[:28]} {x:.3f}"
+        lines.append(f"worst {m}: " + "; ".join(f"{short_name(k)} {x:.3f}"
                                                   for x, k in have[:5]))
     more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
     lines.append(f"sketches with more strokes out than in: {len(more)}")
     failed = [k for k, v in rows.items() if not k.startswith("_") and "error" in v]
     lines.append(f"failures: {len(failed)} {failed[:3]}")
     if "far_ink" in rows.get("_far", {}):
-        lines.append("far ink moved: " + ", ".join(f"{Path(k).name} {x:.3f}"
+        lines.append("far ink moved: " + ", ".join(f"{short_name(k)} {x:.3f}"
                                                    for k, x in rows["_far"]["far_ink"].items()))
     return "\n".join(lines)
 
