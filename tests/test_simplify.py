@@ -363,7 +363,7 @@ def test_at_a_junction_as_many_lines_as_can_continue_do():
         return Edge(np.array([[0.0, 0.0], [0.3 * np.cos(a), 0.3 * np.sin(a)]]))
 
     graph = build_graph([leaving(d) for d in (0, 192, 156, 28)], 0.001)
-    joined = join_edges(graph, SimplifyParams(alpha=0.012))
+    joined = join_edges(graph, SimplifyParams())
     assert len(joined) == 2
     pairs = {tuple(sorted(round(float(np.degrees(np.arctan2(p[1], p[0])))) % 360
                           for p in e.points[[0, -1]])) for e in joined}

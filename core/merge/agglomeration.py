@@ -103,6 +103,7 @@ class Agglomerator:
     """
 
     def __init__(self, cx: BaseComplex, params: SimplifyParams) -> None:
+        params = params.resolved()  # alpha a number
         self.params = params
         self.d_eps = params.alpha  # D = 1 in the unit frame
         self.state = ComplexState(cx)

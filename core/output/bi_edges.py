@@ -54,7 +54,7 @@ class BiEdgePass:
     """
 
     def __init__(self, edges: list[Edge], params: SimplifyParams, memo: StrokeMemo) -> None:
-        self.params = params
+        self.params = params = params.resolved()  # alpha a number
         self.d_eps = params.alpha
         self.memo = memo
         self.input = edges

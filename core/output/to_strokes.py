@@ -200,7 +200,7 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
                ) -> list[Edge]:
     """Chain edges through degree-2 nodes and, if asked, smooth junction crossings."""
     n_edges = len(graph.edges)
-    reach = 2 * params.alpha
+    reach = 2 * params.resolved().alpha
     link = np.full(2 * n_edges, -1)  # end 2k (start of edge k) / 2k+1 (its end) -> partner
     cos_join = np.cos(np.radians(params.join_angle))
     directions = end_directions([e.points for e in graph.edges], reach) if n_edges else None
@@ -287,6 +287,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     ``memo`` keeps Bezier fits and the bi-edge pass's work by content: results replayed at
     other epsilons (a slider) share most strokes and most pairs of edges.
     """
+    params = params.resolved()  # alpha a number
     d_eps = params.alpha
     snap = d_eps / 2
     chains = join_edges(build_graph(linework(state), snap), params, at_junctions=False)
