@@ -118,10 +118,14 @@ def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane
         rights.append(plane.to_3d(hr))
         at_knots = np.arange(len(k)) * SAMPLES_PER_SEGMENT
         width = s.width if s.width is not None else np.full(len(s.points), 0.01)
-        radii.append(width[np.minimum(at_knots, len(width) - 1)].astype(np.float32))
+        # a radius below 0 or an opacity outside 0..1 in the ink (a broken import, a script)
+        # is not copied on: Blender draws such strokes wrongly or not at all
+        radii.append(np.maximum(width[np.minimum(at_knots, len(width) - 1)], 0.0)
+                     .astype(np.float32))
         src = list(s.sources) or [0]
         src_points = np.concatenate([np.arange(slices[i].start, slices[i].stop) for i in src])
-        opacity.append(np.full(len(k), data.opacity[src_points].mean(), np.float32))
+        opacity.append(np.full(len(k), np.clip(data.opacity[src_points].mean(), 0.0, 1.0),
+                               np.float32))
         if data.vertex_color is not None:
             colours.append(np.repeat(data.vertex_color[src_points].mean(axis=0)[None],
                                      len(k), axis=0).astype(np.float32))

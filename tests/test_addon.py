@@ -178,8 +178,9 @@ def test_extension_package_installs_and_runs(tmp_path):
     assert info["result"] == ["FINISHED"] and info["strokes_out"] > 0
     assert info["frames_out"] == 5
     # the bundled wheels were installed for the extension (Blender has no shapely)
-    assert {"shapely-2.1.2.dist-info", "svgelements-1.9.6.dist-info",
-            "defusedxml-0.7.1.dist-info"} <= set(info["wheels"])
+    assert "shapely-2.1.2.dist-info" in info["wheels"]
+    # no SVG reader: the add-on reads no files (svgelements would add a top-level "test")
+    assert not [w for w in info["wheels"] if w.startswith(("svgelements", "defusedxml"))]
 
 
 def test_a_stray_mark_far_away_on_the_layer_changes_nothing_of_the_drawing():

@@ -128,3 +128,15 @@ def test_strokes_along_one_axis_keep_their_length(axis):
     sketch = to_sketch(data, list(range(5)), drawing_plane(data.positions))
     for s in sketch.strokes:
         assert np.hypot(*np.ptp(s.points, axis=0)) == pytest.approx(1.0, rel=1e-6)
+
+
+def test_a_negative_radius_and_an_opacity_over_one_are_not_copied_on():
+    strokes = front_view("cup")
+    data = drawing_of(strokes)
+    data.radius[:] = -0.02
+    data.opacity[:] = 3.0
+    plane = drawing_plane(data.positions)
+    result = simplify(to_sketch(data, list(range(len(strokes))), plane), SimplifyParams())
+    new = to_new_strokes(result.strokes, data, plane)
+    assert all((r >= 0).all() for r in new.radius)
+    assert all(((o >= 0) & (o <= 1)).all() for o in new.opacity)

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
-from helpers import SAMPLES
+from helpers import ROOT, SAMPLES
 
 from core import Sketch, SketchError, Stroke, read_sketch, write_sketch
 from core.io.scap import format_scap, parse_scap
@@ -165,3 +168,13 @@ def test_read_sketch_dispatch_and_errors(tmp_path):
     svg = read_sketch(SAMPLES / "fish.svg")
     scap = read_sketch(SAMPLES / "fish.scap")
     assert len(svg.strokes) == len(scap.strokes)
+
+
+def test_importing_core_loads_no_svg_reader():
+    """The Blender add-on imports core and reads no files: svgelements and defusedxml are
+    imported on the first SVG read, not before."""
+    code = ("import sys, core; print('svgelements' in sys.modules, 'defusedxml' in sys.modules); "
+            "core.read_sketch(sys.argv[1]); print('svgelements' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code, str(SAMPLES / "fish.svg")], cwd=ROOT,
+                         capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["False", "False", "True"]
