@@ -23,6 +23,11 @@ class DrawingData:
     vertex_color: np.ndarray | None  # (N, 4) float32
     material_index: np.ndarray  # (S,) int32
     cyclic: np.ndarray  # (S,) bool
+
+    @classmethod
+    def none(cls) -> NewStrokes:
+        """No strokes: what an empty keyframe is simplified into."""
+        return cls([], [], [], [], [], None, np.zeros(0, np.int32), np.zeros(0, bool))
     selected: np.ndarray  # (S,) bool
     curve_type: np.ndarray  # (S,) int8
 
@@ -46,3 +51,8 @@ class NewStrokes:
     vertex_color: list[np.ndarray] | None
     material_index: np.ndarray  # (S,) int32
     cyclic: np.ndarray  # (S,) bool
+
+    @classmethod
+    def none(cls) -> NewStrokes:
+        """No strokes: what an empty keyframe is simplified into."""
+        return cls([], [], [], [], [], None, np.zeros(0, np.int32), np.zeros(0, bool))

@@ -148,14 +148,23 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     report = RunReport()
     t0 = time.perf_counter()
     prepared = []
+    empty = []  # keyframes drawn empty: kept empty in the output when it has others
     for layer, frames in collect_drawings(obj, options, frame_number, report, frame_range):
         data = read_drawing(frames[0].drawing)
+        where = f"'{layer.name}' frame {frames[0].frame_number}"
+        if data.num_strokes == 0:
+            if options.scope == "ALL":
+                empty.append((layer, frames))
+            else:
+                report.skipped.append(f"an empty keyframe on {where}")
+            continue
         chosen = [k for k in range(data.num_strokes)
                   if (options.scope != "SELECTED" or data.selected[k])
                   and data.offsets[k + 1] - data.offsets[k] >= 2]
         if not chosen:
-            report.skipped.append(f"an empty drawing on '{layer.name}' frame "
-                                  f"{frames[0].frame_number}")
+            report.skipped.append(
+                f"no stroke selected on {where}" if options.scope == "SELECTED"
+                and not data.selected.any() else f"only strokes of one point on {where}")
             continue
         points = data.positions[np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
                                                 for k in chosen])]
@@ -190,6 +199,12 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         report.drawings += 1
         report.strokes_in += len(chosen)
         report.strokes_out += len(strokes)
+    # an empty keyframe hides the drawing before it from its frame on: so must the output's
+    drawn = {r.layer.as_pointer() for r in results}
+    kept = [(layer, frames) for layer, frames in empty if layer.as_pointer() in drawn]
+    results += [DrawingResult(layer, frames, [], NewStrokes.none()) for layer, frames in kept]
+    if kept:
+        report.notes.append(f"{len(kept)} empty keyframe(s) kept empty")
     report.seconds = time.perf_counter() - t0
     return report, results
 
@@ -230,11 +245,13 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             target.matrix_world = obj.matrix_world @ r.layer.matrix_local
             write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
                                  r.new.handles_right, list(r.new.cyclic), r.new.radius)
-            if options.hide_source:
+            if options.hide_source and options.scope != "SELECTED":
                 r.layer.hide = True
         return target
     if options.output == "REPLACE":
         for r in results:
+            if not r.chosen:  # an empty keyframe: nothing to replace
+                continue
             drawing = r.frames[0].drawing
             drawing.remove_strokes(indices=r.chosen)
             write_strokes(drawing, r.new)
@@ -262,7 +279,9 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             if target is obj:
                 place_above(gp, dest, layer)
             made[layer.name] = dest
-            if options.hide_source:
+            # a selection's source keeps its other strokes in view: only a layer simplified
+            # whole is hidden
+            if options.hide_source and options.scope != "SELECTED":
                 layer.hide = True
         dest = made[layer.name]
         first = r.frames[0].frame_number

@@ -133,12 +133,13 @@ def test_bad_input_reports_and_changes_nothing(case):
     ob = make_object({1: None if case in ("empty", "one_point") else "house"})
     layer = ob.data.layers["Lines"]
     if case == "one_point":
-        from blender_scene import fill_drawing
         fill_drawing(layer.frames[0].drawing, [np.zeros((1, 3), np.float32)] * 3)
     layer.lock = case == "locked"
     layer.hide = case == "hidden"
     before = snapshot(layer.frames[0].drawing)
-    with pytest.raises(RuntimeError, match="Nothing to simplify"):
+    why = {"empty": "an empty keyframe", "one_point": "only strokes of one point",
+           "locked": "locked", "hidden": "hidden"}[case]
+    with pytest.raises(RuntimeError, match=f"Nothing to simplify.*{why}"):
         bpy.ops.sketchsimp.simplify()
     assert len(ob.data.layers) == 1
     assert snapshot(layer.frames[0].drawing) == before
@@ -202,6 +203,38 @@ def test_a_stray_mark_far_away_on_the_layer_changes_nothing_of_the_drawing():
     assert len(stray) == len(alone)  # the house simplified as it was alone
     for a, b in zip(alone, stray):
         assert a.shape == b.shape and np.abs(a - b).max() < 1e-4 * size
+
+
+def test_an_empty_keyframe_stays_empty_in_the_output():
+    ob = make_object({1: "house", 10: "cup", 20: None, 30: "fish"})
+    assert bpy.ops.sketchsimp.simplify(scope="ALL") == {"FINISHED"}
+    out = ob.data.layers["Lines simplified"]
+    assert sorted(f.frame_number for f in out.frames) == [1, 10, 20, 30]
+    for number, empty in ((25, True), (20, True), (10, False), (30, False)):
+        shown = out.get_frame_at(number).drawing.attributes.domain_size("CURVE")
+        assert (shown == 0) == empty, number  # nothing of the cup shows through at 20-29
+
+
+def test_selected_strokes_to_a_new_layer_leave_the_rest_of_the_source_in_view():
+    ob = make_object({1: "house"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    chosen = np.zeros(len(strokes_of(drawing)), bool)
+    chosen[:5] = True
+    sel = drawing.attributes.new(".selection", "BOOLEAN", "CURVE")
+    sel.data.foreach_set("value", chosen)
+    assert bpy.ops.sketchsimp.simplify(scope="SELECTED", hide_source=True) == {"FINISHED"}
+    assert not ob.data.layers["Lines"].hide  # the unselected strokes are still seen
+    assert ob.data.layers["Lines simplified"].frames[0].drawing.attributes.domain_size(
+        "CURVE") > 0
+
+
+def test_nothing_selected_says_so():
+    ob = make_object({1: "house"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    sel = drawing.attributes.new(".selection", "BOOLEAN", "CURVE")
+    sel.data.foreach_set("value", np.zeros(len(strokes_of(drawing)), bool))
+    with pytest.raises(RuntimeError, match="no stroke selected"):
+        bpy.ops.sketchsimp.simplify(scope="SELECTED")
 
 
 def test_selected_strokes_only():
