@@ -13,7 +13,7 @@ import numpy as np
 
 from ..core import sample_bezier
 
-__all__ = ["FREE", "new_curve_object", "read_curve", "write_bezier_splines"]
+__all__ = ["FREE", "ink_material", "new_curve_object", "read_curve", "write_bezier_splines"]
 
 FREE = 0  # handle type, as foreach_set takes it
 
@@ -77,10 +77,37 @@ def write_bezier_splines(curve, knots: list[np.ndarray], lefts: list[np.ndarray]
 
 
 def new_curve_object(name: str, like, collection) -> bpy.types.Object:
-    """An empty 3D Bezier curve object placed like ``like``, linked where it is."""
+    """An empty 3D Bezier curve object placed like ``like``, linked where it is.
+
+    It renders as tubes: a bevel of depth 1 times each point's radius, so that a point
+    written with a Grease Pencil radius (in metres) is drawn that thick."""
     curve = bpy.data.curves.new(name, type="CURVE")
     curve.dimensions = "3D"
+    curve.bevel_depth = 1.0
+    curve.use_fill_caps = True
     obj = bpy.data.objects.new(name, curve)
     obj.matrix_world = like.matrix_world
     collection.objects.link(obj)
     return obj
+
+
+def ink_material(source) -> bpy.types.Material:
+    """A surface material with the colour of a Grease Pencil material's strokes (curve
+    objects render surfaces, which a Grease Pencil material does not describe); made once
+    per source material and reused."""
+    name = f"{source.name} (curve)" if source is not None else "SketchSimp ink"
+    found = bpy.data.materials.get(name)
+    if found is not None:
+        return found
+    mat = bpy.data.materials.new(name)
+    style = getattr(source, "grease_pencil", None) if source is not None else None
+    colour = tuple(style.color) if style is not None else (0.0, 0.0, 0.0, 1.0)
+    mat.diffuse_color = colour
+    tree = mat.node_tree
+    if tree is None and hasattr(mat, "use_nodes"):
+        mat.use_nodes = True
+        tree = mat.node_tree
+    bsdf = tree.nodes.get("Principled BSDF") if tree is not None else None
+    if bsdf is not None:
+        bsdf.inputs["Base Color"].default_value = colour
+    return mat

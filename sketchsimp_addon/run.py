@@ -13,14 +13,15 @@ import numpy as np
 
 from ..core import ReplayCache, SimplifyParams, SketchError, default_jobs, simplify, simplify_all
 from .convert import drawing_from_polylines, drawing_plane, to_new_strokes, to_sketch
-from .curve_io import new_curve_object, read_curve, write_bezier_splines
+from .curve_io import ink_material, new_curve_object, read_curve, write_bezier_splines
 from .drawing import NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
-    "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "match_parent", "place_above",
+    "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "layer_to_world", "match_parent",
+    "place_above",
     "RunReport", "simplify_curve_object", "simplify_object", "source_frames", "target_layers",
-    "write_curve_result", "write_results",
+    "untouchable_materials", "why_left_alone", "write_curve_result", "write_results",
 ]
 
 
@@ -83,24 +84,56 @@ def write_curve_result(obj, options, new: NewStrokes, context):
         target = obj
     else:
         target = new_curve_object(obj.name + " simplified", obj, context.collection)
+        # drawn as the source is: its bevel and materials (the radius below is 1, Blender's
+        # default, the multiplier a curve's own bevel is drawn with)
+        target.data.bevel_depth = obj.data.bevel_depth
+        target.data.bevel_resolution = obj.data.bevel_resolution
+        for mat in obj.data.materials:
+            target.data.materials.append(mat)
         if options.hide_source:
             obj.hide_set(True)
     write_bezier_splines(target.data, new.knots, new.handles_left, new.handles_right,
-                         list(new.cyclic), new.radius)
+                         list(new.cyclic))
     return target
 
 
+def why_left_alone(layer) -> str | None:
+    """Why a layer may not be simplified: locked or hidden, itself or in a layer group
+    (a locked group locks its layers, a hidden one hides them); None when it may."""
+    if layer.lock or layer.hide:
+        return "locked" if layer.lock else "hidden"
+    group = layer.parent_group
+    while group is not None:
+        if group.lock or group.hide:
+            return f"in {'locked' if group.lock else 'hidden'} group '{group.name}'"
+        group = group.parent_group
+    return None
+
+
 def target_layers(gp, which: str, report: RunReport) -> list:
-    """The layers to work on; locked and hidden ones are left alone and named."""
+    """The layers to work on; locked and hidden ones (or in such groups) are left alone
+    and named."""
     candidates = [gp.layers.active] if which == "ACTIVE" else list(gp.layers)
     out = []
     for layer in candidates:
         if layer is None:
             continue
-        if layer.lock or layer.hide:
-            report.skipped.append(f"layer '{layer.name}' ({'locked' if layer.lock else 'hidden'})")
-        else:
+        why = why_left_alone(layer)
+        if why is None:
             out.append(layer)
+        else:
+            report.skipped.append(f"layer '{layer.name}' ({why})")
+    return out
+
+
+def untouchable_materials(obj) -> set[int]:
+    """Material slots whose strokes are left alone: hidden or locked Grease Pencil
+    materials (the artist has put those strokes out of reach)."""
+    out = set()
+    for k, mat in enumerate(obj.data.materials):
+        style = getattr(mat, "grease_pencil", None) if mat is not None else None
+        if style is not None and (style.hide or style.lock):
+            out.add(k)
     return out
 
 
@@ -149,6 +182,8 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     t0 = time.perf_counter()
     prepared = []
     empty = []  # keyframes drawn empty: kept empty in the output when it has others
+    untouchable = untouchable_materials(obj)
+    held = 0  # strokes of hidden or locked materials, left as they are
     for layer, frames in collect_drawings(obj, options, frame_number, report, frame_range):
         data = read_drawing(frames[0].drawing)
         where = f"'{layer.name}' frame {frames[0].frame_number}"
@@ -158,9 +193,14 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             else:
                 report.skipped.append(f"an empty keyframe on {where}")
             continue
-        chosen = [k for k in range(data.num_strokes)
+        usable = [k for k in range(data.num_strokes)
                   if (options.scope != "SELECTED" or data.selected[k])
                   and data.offsets[k + 1] - data.offsets[k] >= 2]
+        chosen = [k for k in usable if int(data.material_index[k]) not in untouchable]
+        held += len(usable) - len(chosen)
+        if usable and not chosen:
+            report.skipped.append(f"only strokes of hidden or locked materials on {where}")
+            continue
         if not chosen:
             report.skipped.append(
                 f"no stroke selected on {where}" if options.scope == "SELECTED"
@@ -199,6 +239,8 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         report.drawings += 1
         report.strokes_in += len(chosen)
         report.strokes_out += len(strokes)
+    if held:
+        report.notes.append(f"{held} stroke(s) of hidden or locked materials left alone")
     # an empty keyframe hides the drawing before it from its frame on: so must the output's
     drawn = {r.layer.as_pointer() for r in results}
     kept = [(layer, frames) for layer, frames in empty if layer.as_pointer() in drawn]
@@ -207,6 +249,14 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         report.notes.append(f"{len(kept)} empty keyframe(s) kept empty")
     report.seconds = time.perf_counter() - t0
     return report, results
+
+
+def layer_to_world(obj, layer):
+    """The matrix taking a layer's drawing space to world space: through the layer's
+    parent when it has one (then the object's own matrix does not apply)."""
+    if layer.parent is not None:
+        return layer.parent.matrix_world @ layer.matrix_parent_inverse @ layer.matrix_local
+    return obj.matrix_world @ layer.matrix_local
 
 
 def match_parent(layer, source) -> None:
@@ -242,9 +292,14 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             done.add(r.layer.name)
             target = new_curve_object(f"{obj.name} {r.layer.name} simplified", obj,
                                       context.collection)
-            target.matrix_world = obj.matrix_world @ r.layer.matrix_local
+            target.matrix_world = layer_to_world(obj, r.layer)
             write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
                                  r.new.handles_right, list(r.new.cyclic), r.new.radius)
+            for slot in sorted(set(r.new.material_index.tolist())) or [0]:
+                source = obj.data.materials[slot] if slot < len(obj.data.materials) else None
+                target.data.materials.append(ink_material(source))
+            for spline, slot in zip(target.data.splines, r.new.material_index.tolist()):
+                spline.material_index = sorted(set(r.new.material_index.tolist())).index(slot)
             if options.hide_source and options.scope != "SELECTED":
                 r.layer.hide = True
         return target

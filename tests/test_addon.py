@@ -284,10 +284,17 @@ def make_curve_object(sample: str, kind: str = "POLY"):
 @pytest.mark.parametrize("kind", ["POLY", "BEZIER", "NURBS"])
 def test_curve_object_in_and_bezier_curve_out(kind):
     ob = make_curve_object("cup", kind)
+    ob.data.bevel_depth = 0.02
+    ob.data.materials.append(bpy.data.materials.new("Tube"))
     n_in = len(ob.data.splines)
     assert bpy.ops.sketchsimp.simplify(hide_source=False) == {"FINISHED"}
     out = bpy.data.objects["Rough simplified"]
     assert out.type == "CURVE" and len(ob.data.splines) == n_in  # source untouched
+    # drawn as the source: its bevel, its material, radius 1 (the bevel's multiplier)
+    assert out.data.bevel_depth == pytest.approx(0.02)
+    assert list(out.data.materials) == list(ob.data.materials)
+    radius = np.concatenate([[p.radius for p in s.bezier_points] for s in out.data.splines])
+    assert np.allclose(radius, 1.0)
     splines = out.data.splines
     assert 0 < len(splines) < n_in and all(s.type == "BEZIER" for s in splines)
     ink = shapely.union_all(lines_from([s[:, [0, 2]] for s in sample_points("cup")]))
@@ -331,12 +338,78 @@ def test_odd_curve_splines_are_skipped_and_the_source_kept():
     assert len(out) > 0 and np.isfinite(co).all()
 
 
-def test_grease_pencil_to_a_bezier_curve_object():
+def curve_points_world(ob) -> np.ndarray:
+    co = np.concatenate([[p.co[:] for p in s.bezier_points] for s in ob.data.splines])
+    m = np.array(ob.matrix_world)
+    return co @ m[:3, :3].T + m[:3, 3]
+
+
+@pytest.mark.parametrize("parented", [False, True])
+def test_grease_pencil_to_a_bezier_curve_object_that_renders_where_the_ink_is(parented):
     ob = make_object({1: "house"})
+    layer = ob.data.layers["Lines"]
+    if parented:  # the layer follows an empty 4.8 m away
+        empty = bpy.data.objects.new("Rig", None)
+        bpy.context.scene.collection.objects.link(empty)
+        empty.location = (4.8, 0.0, 0.0)
+        bpy.context.view_layer.update()
+        layer.parent = empty
+        empty.location = (4.8, 0.0, 1.0)
+        bpy.context.view_layer.update()
     assert bpy.ops.sketchsimp.simplify(as_curve=True) == {"FINISHED"}
     out = bpy.data.objects["Sketch Lines simplified"]
     assert out.type == "CURVE" and len(out.data.splines) > 0
-    assert len(ob.data.layers) == 1 and ob.data.layers["Lines"].hide
+    assert len(ob.data.layers) == 1 and layer.hide
+    # it renders: a bevel, a material with the ink's colour
+    assert out.data.bevel_depth > 0 and len(out.data.materials) > 0
+    assert tuple(out.data.materials[0].diffuse_color)[:3] == pytest.approx(
+        tuple(ob.data.materials[0].grease_pencil.color)[:3])
+    # where the layer's ink is in the world
+    ink = np.concatenate(sample_points("house"))
+    world = np.array(ob.matrix_world) if not parented else (
+        np.array(layer.parent.matrix_world) @ np.array(layer.matrix_parent_inverse))
+    ink_world = ink @ world[:3, :3].T + world[:3, 3]
+    ink_lines = shapely.union_all(lines_from(
+        [s @ world[:3, :3].T[:, [0, 2]] + world[:3, 3][[0, 2]] for s in sample_points("house")]))
+    pts = curve_points_world(out)
+    assert abs(pts[:, 1] - ink_world[:, 1].mean()).max() < 1e-4
+    assert shapely.distance(shapely.points(pts[:, [0, 2]]), ink_lines).max() < 6 * SCALE
+
+
+def test_layers_in_hidden_or_locked_groups_are_left_alone():
+    ob = make_object({1: "house"})
+    layer = ob.data.layers["Lines"]
+    for state in ("hide", "lock"):
+        group = ob.data.layer_groups.new(f"Group {state}")
+        ob.data.layers.move_to_layer_group(layer, group)
+        setattr(group, state, True)
+        before = snapshot(layer.frames[0].drawing)
+        with pytest.raises(RuntimeError, match=f"group 'Group {state}'"):
+            bpy.ops.sketchsimp.simplify(output="REPLACE")
+        assert snapshot(layer.frames[0].drawing) == before
+        assert [x.name for x in ob.data.layers] == ["Lines"]
+        setattr(group, state, False)
+
+
+@pytest.mark.parametrize("state", ["hide", "lock"])
+def test_strokes_of_a_hidden_or_locked_material_are_left_alone(state):
+    ob = make_object({1: "house"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    held = bpy.data.materials.new("Held")
+    bpy.data.materials.create_gpencil_data(held)
+    ob.data.materials.append(held)
+    n = len(strokes_of(drawing))
+    index = np.zeros(n, np.int32)
+    index[:4] = 1  # the first four strokes use it
+    attr = drawing.attributes.get("material_index") or drawing.attributes.new(
+        "material_index", "INT", "CURVE")
+    attr.data.foreach_set("value", index)
+    kept = strokes_of(drawing)[:4]
+    setattr(held.grease_pencil, state, True)
+    assert bpy.ops.sketchsimp.simplify(output="REPLACE") == {"FINISHED"}
+    after = strokes_of(drawing)
+    for s in kept:  # still there, point for point
+        assert any(len(s) == len(t) and np.array_equal(s, t) for t in after)
 
 
 def test_visible_layers_each_get_a_layer_just_above():
