@@ -31,6 +31,14 @@ class Plane:
     def to_3d(self, points: np.ndarray) -> np.ndarray:
         return (self.centre + points @ self.axes).astype(np.float32)
 
+    def off_plane(self, points: np.ndarray) -> float:
+        """How far the points farthest from the plane are from it (what flattening onto
+        it moves them by); non-finite points are left out."""
+        pts = np.asarray(points, dtype=np.float64)
+        pts = pts[np.isfinite(pts).all(axis=1)]
+        normal = np.cross(self.axes[0], self.axes[1])
+        return float(np.abs((pts - self.centre) @ normal).max()) if len(pts) else 0.0
+
 
 def drawing_plane(positions: np.ndarray) -> Plane:
     """The plane through the points' centre that fits them best, with its in-plane axes

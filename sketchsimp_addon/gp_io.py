@@ -124,4 +124,14 @@ def write_strokes(drawing, new: NewStrokes) -> None:
 
     put_curves("material_index", "INT", new.material_index, np.int32)
     put_curves("cyclic", "BOOLEAN", new.cyclic, bool)
+    # where the drawing keeps a selection, the new strokes are selected (they replace, or
+    # stand beside, what was selected); with none, every stroke counts as selected anyway
+    selection = attrs.get(".selection")
+    if selection is not None:
+        size, mine_of = ((n_strokes, slice(first, n_strokes)) if selection.domain == "CURVE"
+                         else (n_pts, mine))
+        full = np.empty(size, dtype=bool)
+        selection.data.foreach_get("value", full)
+        full[mine_of] = True
+        selection.data.foreach_set("value", full)
     drawing.tag_positions_changed()

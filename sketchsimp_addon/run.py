@@ -18,10 +18,10 @@ from .drawing import NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
-    "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "layer_to_world", "match_parent",
-    "place_above",
-    "RunReport", "simplify_curve_object", "simplify_object", "source_frames", "target_layers",
-    "untouchable_materials", "why_left_alone", "write_curve_result", "write_results",
+    "FLAT", "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "layer_to_world",
+    "match_parent", "place_above", "RunReport", "simplify_curve_object", "simplify_object",
+    "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
+    "write_curve_result", "write_results",
 ]
 
 
@@ -119,6 +119,9 @@ def target_layers(gp, which: str, report: RunReport) -> list:
         if layer is None:
             continue
         why = why_left_alone(layer)
+        if why == "hidden" and gp.layers.get(f"{layer.name} simplified") is not None:
+            why = (f"hidden: simplified before into '{layer.name} simplified'; show it to "
+                   "simplify it again")
         if why is None:
             out.append(layer)
         else:
@@ -144,6 +147,9 @@ def source_frames(layer, scope: str, frame_number: int) -> list:
     return [frame] if frame is not None else []
 
 
+#: a drawing whose points lie farther than this share of its size from its plane is not
+#: flat: it is still flattened (the core works in 2D), and the report says by how much
+FLAT = 0.02
 #: from this many drawings on, the core runs them in a pool of processes
 POOL_FROM = 4
 #: runs kept for replay: changing epsilon in the redo panel re-runs the operator
@@ -213,6 +219,13 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                                   f"{frames[0].frame_number}")
             continue
         plane = drawing_plane(points)
+        off = plane.off_plane(points)
+        size = float(np.hypot(*np.ptp(plane.to_2d(points[np.isfinite(points).all(axis=1)]),
+                                      axis=0)))
+        if off > FLAT * size:
+            report.notes.append(f"the drawing on {where} is not flat: points up to {off:.3g} "
+                                f"off its plane ({100 * off / size:.0f}% of its size) were "
+                                "flattened onto it")
         prepared.append((layer, frames, data, chosen, plane, to_sketch(data, chosen, plane)))
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1

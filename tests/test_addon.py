@@ -237,6 +237,44 @@ def test_nothing_selected_says_so():
         bpy.ops.sketchsimp.simplify(scope="SELECTED")
 
 
+def test_the_new_strokes_stay_selected_after_selected_and_replace():
+    ob = make_object({1: "house"})
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    n = len(strokes_of(drawing))
+    chosen = np.zeros(n, bool)
+    chosen[:5] = True
+    sel = drawing.attributes.new(".selection", "BOOLEAN", "CURVE")
+    sel.data.foreach_set("value", chosen)
+    assert bpy.ops.sketchsimp.simplify(scope="SELECTED", output="REPLACE") == {"FINISHED"}
+    after = drawing.attributes[".selection"]
+    flags = np.empty(drawing.attributes.domain_size("CURVE"), bool)
+    after.data.foreach_get("value", flags)
+    assert not flags[:n - 5].any()  # the strokes left alone stay unselected
+    assert flags[n - 5:].all() and len(flags) > n - 5  # what replaced the selection is
+
+
+def test_a_drawing_that_is_not_flat_is_flattened_with_a_warning(capsys):
+    ob = make_object({1: None})
+    rng = np.random.default_rng(1)
+    house = sample_points("house")
+    bent = [s + np.array([0, 1, 0], np.float32) * rng.uniform(-0.3, 0.3) for s in house]
+    fill_drawing(ob.data.layers["Lines"].frames[0].drawing, bent)
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    message = bpy.context.scene.sketchsimp.last_run
+    assert "not flat" in message and "% of its size" in message
+    flat = make_object({1: "house"}, name="Flat")
+    bpy.context.view_layer.objects.active = flat
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    assert "not flat" not in bpy.context.scene.sketchsimp.last_run
+
+
+def test_pressing_again_on_the_hidden_source_says_it_was_simplified():
+    make_object({1: "house"})
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}  # hides the source layer
+    with pytest.raises(RuntimeError, match="simplified before into 'Lines simplified'"):
+        bpy.ops.sketchsimp.simplify()
+
+
 def test_selected_strokes_only():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing
