@@ -17,7 +17,10 @@ import numpy as np
 from ..core import SAMPLES_PER_SEGMENT, Sketch, SketchError, Stroke
 from .drawing import DrawingData, NewStrokes
 
-__all__ = ["Plane", "drawing_from_polylines", "drawing_plane", "to_new_strokes", "to_sketch"]
+__all__ = [
+    "FAR_OUT", "Plane", "drawing_from_polylines", "drawing_plane", "far_out", "to_new_strokes",
+    "to_sketch",
+]
 
 
 @dataclass(frozen=True)
@@ -73,6 +76,30 @@ def drawing_plane(positions: np.ndarray) -> Plane:
     if second @ up < 0:
         second = -second
     return Plane(centre, np.stack([first, second]))
+
+
+#: a point farther than this many times the drawing's size from the middle of its ink is
+#: broken data (a stray 1e30 from a bad import), not a stroke: it is left out as a NaN is
+FAR_OUT = 1000.0
+
+
+def far_out(positions: np.ndarray) -> np.ndarray:
+    """Which points are broken data, far outside the drawing (see ``FAR_OUT``): measured
+    from the median point against the box of the middle 98% of the points, so that a few
+    such points cannot stretch the measure."""
+    pts = np.asarray(positions, dtype=np.float64)
+    finite = np.isfinite(pts).all(axis=1)
+    out = np.zeros(len(pts), dtype=bool)
+    if finite.sum() < 2:
+        return out
+    inner = pts[finite]
+    size = float(np.linalg.norm(np.percentile(inner, 99, axis=0)
+                                - np.percentile(inner, 1, axis=0)))
+    if not size > 0:
+        return out
+    offset = np.linalg.norm(inner - np.median(inner, axis=0), axis=1)
+    out[np.flatnonzero(finite)] = offset > FAR_OUT * size
+    return out
 
 
 def drawing_from_polylines(polylines: list[np.ndarray], closed: list[bool]) -> DrawingData:

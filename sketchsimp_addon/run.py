@@ -12,13 +12,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import ReplayCache, SimplifyParams, SketchError, default_jobs, simplify, simplify_all
-from .convert import drawing_from_polylines, drawing_plane, to_new_strokes, to_sketch
+from .convert import drawing_from_polylines, drawing_plane, far_out, to_new_strokes, to_sketch
 from .curve_io import ink_material, new_curve_object, read_curve, write_bezier_splines
 from .drawing import NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
-    "FLAT", "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "layer_to_world",
+    "FLAT", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "layer_to_world",
     "match_parent", "place_above", "RunReport", "simplify_curve_object", "simplify_object",
     "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
     "write_curve_result", "write_results",
@@ -147,6 +147,9 @@ def source_frames(layer, scope: str, frame_number: int) -> list:
     return [frame] if frame is not None else []
 
 
+#: what a new layer takes from its source layer for the strokes to look the same
+LOOK = ("opacity", "blend_mode", "tint_color", "tint_factor", "use_lights", "radius_offset",
+        "pass_index", "viewlayer_render", "use_masks", "channel_color")
 #: a drawing whose points lie farther than this share of its size from its plane is not
 #: flat: it is still flattened (the core works in 2D), and the report says by how much
 FLAT = 0.02
@@ -212,6 +215,12 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                 f"no stroke selected on {where}" if options.scope == "SELECTED"
                 and not data.selected.any() else f"only strokes of one point on {where}")
             continue
+        broken = far_out(data.positions)
+        if broken.any():  # left out as a NaN is: the core drops them
+            report.notes.append(f"{int(broken.sum())} point(s) far outside the drawing on "
+                                f"{where} left out")
+            data.positions = data.positions.copy()
+            data.positions[broken] = np.nan
         points = data.positions[np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
                                                 for k in chosen])]
         if np.isfinite(points).all(axis=1).sum() < 2:  # drawing_plane leaves NaN points out
@@ -342,6 +351,8 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             # the same layer transform, so that the strokes land where the source's are
             dest.translation, dest.rotation, dest.scale = (layer.translation, layer.rotation,
                                                           layer.scale)
+            for name in LOOK:  # and drawn as the source is drawn
+                setattr(dest, name, getattr(layer, name))
             if layer.parent is not None:
                 match_parent(dest, layer)
             if target is obj:

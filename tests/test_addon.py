@@ -275,6 +275,31 @@ def test_pressing_again_on_the_hidden_source_says_it_was_simplified():
         bpy.ops.sketchsimp.simplify()
 
 
+def test_the_new_layer_is_drawn_as_the_source_layer():
+    ob = make_object({1: "house"})
+    layer = ob.data.layers["Lines"]
+    layer.opacity, layer.blend_mode = 0.6, "MULTIPLY"
+    layer.tint_color, layer.tint_factor, layer.use_lights = (0.2, 0.4, 0.9), 0.5, False
+    assert bpy.ops.sketchsimp.simplify(hide_source=False) == {"FINISHED"}
+    dest = ob.data.layers["Lines simplified"]
+    assert dest.opacity == pytest.approx(0.6) and dest.blend_mode == "MULTIPLY"
+    assert tuple(dest.tint_color) == pytest.approx((0.2, 0.4, 0.9))
+    assert dest.tint_factor == pytest.approx(0.5) and not dest.use_lights
+
+
+def test_a_point_at_1e30_is_left_out_with_a_note():
+    ob = make_object({1: None})
+    house = sample_points("house")
+    house[3] = house[3].copy()
+    house[3][5] = (1e30, 0.0, 0.0)
+    fill_drawing(ob.data.layers["Lines"].frames[0].drawing, house)
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    assert "1 point(s) far outside the drawing" in bpy.context.scene.sketchsimp.last_run
+    out = np.concatenate(strokes_of(ob.data.layers["Lines simplified"].frames[0].drawing))
+    size = float(np.hypot(*np.ptp(np.concatenate(sample_points("house")), axis=0)[[0, 2]]))
+    assert np.abs(out).max() < 10 * size  # the drawing, not 1e30 wide
+
+
 def test_selected_strokes_only():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing

@@ -22,6 +22,7 @@ from sketchsimp.core import (  # noqa: E402
 from sketchsimp.sketchsimp_addon.convert import (  # noqa: E402
     drawing_from_polylines,
     drawing_plane,
+    far_out,
     to_new_strokes,
     to_sketch,
 )
@@ -140,3 +141,15 @@ def test_a_negative_radius_and_an_opacity_over_one_are_not_copied_on():
     new = to_new_strokes(result.strokes, data, plane)
     assert all((r >= 0).all() for r in new.radius)
     assert all(((o >= 0) & (o <= 1)).all() for o in new.opacity)
+
+
+def test_a_point_at_1e30_is_broken_data_and_ordinary_ink_is_not():
+    strokes = front_view("house")
+    pts = np.concatenate(strokes)
+    assert not far_out(pts).any()
+    broken = pts.copy()
+    broken[7] = [1e30, 0.3, 5.0]
+    broken[20] = [-3e9, 0.3, 0.0]
+    assert np.flatnonzero(far_out(broken)).tolist() == [7, 20]
+    far_mark = np.concatenate([pts, pts[:2] + [40.0, 0, 0]])  # a stray mark is ink
+    assert not far_out(far_mark).any()
