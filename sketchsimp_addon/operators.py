@@ -10,7 +10,14 @@ from ..core import SketchError
 from .options import SimplifyOptions
 from .run import simplify_curve_object, simplify_object, write_curve_result, write_results
 
-__all__ = ["SKETCHSIMP_OT_simplify"]
+__all__ = ["SKETCHSIMP_OT_simplify", "scene_range"]
+
+
+def scene_range(scene) -> tuple[int, int]:
+    """The frames the scene plays: its preview range when that is on."""
+    if scene.use_preview_range:
+        return scene.frame_preview_start, scene.frame_preview_end
+    return scene.frame_start, scene.frame_end
 
 
 class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
@@ -52,7 +59,9 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         wm.progress_begin(0.0, 1.0)
         try:
             report, results = simplify_object(obj, self, params, context.scene.frame_current,
-                                              progress=wm.progress_update)
+                                              progress=wm.progress_update,
+                                              frame_range=scene_range(context.scene)
+                                              if self.scope == "RANGE" else None)
         finally:
             wm.progress_end()
         if not results:

@@ -13,6 +13,8 @@ DEFAULTS = SimplifyParams()
 SCOPE_ITEMS = [
     ("CURRENT", "Current Frame", "Simplify the drawing shown at the current frame"),
     ("ALL", "All Keyframes", "Simplify every keyframe's drawing (shared drawings once)"),
+    ("RANGE", "Frame Range", "Simplify the drawings shown in the scene's frame range (the "
+     "preview range when it is on): its keyframes and the one showing at its start"),
     ("SELECTED", "Selected Strokes", "Simplify only the selected strokes of the current frame"),
 ]
 LAYER_ITEMS = [

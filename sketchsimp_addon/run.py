@@ -140,9 +140,18 @@ def untouchable_materials(obj) -> set[int]:
     return out
 
 
-def source_frames(layer, scope: str, frame_number: int) -> list:
-    if scope == "ALL":
+def source_frames(layer, scope: str, frame_number: int,
+                  frame_range: tuple[int, int] | None = None) -> list:
+    """The keyframes to simplify: the one shown at ``frame_number``; every one ("ALL",
+    within ``frame_range`` when given); or those shown in ``frame_range`` ("RANGE": its
+    keyframes and the one showing at its start, drawn before it)."""
+    if scope == "ALL" and frame_range is None:
         return list(layer.frames)
+    if scope in ("ALL", "RANGE") and frame_range is not None:
+        lo, hi = frame_range
+        showing = layer.get_frame_at(lo) if scope == "RANGE" else None
+        first = showing.frame_number if showing is not None else lo
+        return [f for f in layer.frames if first <= f.frame_number <= hi]
     frame = layer.get_frame_at(frame_number)
     return [frame] if frame is not None else []
 
@@ -165,9 +174,7 @@ def collect_drawings(obj, options, frame_number: int, report: RunReport,
     keyframes is listed once, with all of them. ``frame_range`` narrows "ALL" scope."""
     drawings: dict[int, tuple] = {}
     for layer in target_layers(obj.data, options.layers, report):
-        for frame in source_frames(layer, options.scope, frame_number):
-            if frame_range and not frame_range[0] <= frame.frame_number <= frame_range[1]:
-                continue
+        for frame in source_frames(layer, options.scope, frame_number, frame_range):
             key = frame.drawing.as_pointer()
             if key in drawings:
                 drawings[key][1].append(frame)
@@ -197,7 +204,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         data = read_drawing(frames[0].drawing)
         where = f"'{layer.name}' frame {frames[0].frame_number}"
         if data.num_strokes == 0:
-            if options.scope == "ALL":
+            if options.scope in ("ALL", "RANGE"):
                 empty.append((layer, frames))
             else:
                 report.skipped.append(f"an empty keyframe on {where}")

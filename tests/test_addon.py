@@ -300,6 +300,22 @@ def test_a_point_at_1e30_is_left_out_with_a_note():
     assert np.abs(out).max() < 10 * size  # the drawing, not 1e30 wide
 
 
+def test_frame_range_simplifies_what_the_scene_shows():
+    ob = make_object({1: "house", 10: "cup", 20: "fish", 30: "house"})
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end, scene.use_preview_range = 12, 25, False
+    assert bpy.ops.sketchsimp.simplify(scope="RANGE", hide_source=False) == {"FINISHED"}
+    out = ob.data.layers["Lines simplified"]
+    assert sorted(f.frame_number for f in out.frames) == [10, 20]  # 10 shows at 12
+    gp = ob.data
+    gp.layers.remove(out)
+    scene.use_preview_range = True
+    scene.frame_preview_start, scene.frame_preview_end = 25, 40
+    assert bpy.ops.sketchsimp.simplify(scope="RANGE", hide_source=False) == {"FINISHED"}
+    assert sorted(f.frame_number for f in gp.layers["Lines simplified"].frames) == [20, 30]
+    scene.use_preview_range = False
+
+
 def test_selected_strokes_only():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing
