@@ -22,17 +22,17 @@ from .io.cleaning import CleaningReport, Normalisation, clean_sketch, normalised
 from .io.files import read_sketch, write_sketch
 from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
 from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier
-from .parallel import default_jobs, simplify_all
+from .parallel import Simplified, default_jobs, simplified, simplify_all
 from .params import PAPER_ALPHA, SimplifyParams
 from .replay_cache import ReplayCache
 from .simplify import SimplifyResult, simplify
-from .sketch import Sketch, SketchError, Stroke
+from .sketch import Region, Sketch, SketchError, Stroke
 
 __all__ = [
-    "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "CleaningReport",
-    "Normalisation",
-    "Patch", "ReplayCache", "Sketch", "SketchError", "Stroke", "SimplifyParams", "SimplifyResult",
-    "build_base_complex", "clean_sketch", "curve_descriptors", "default_jobs", "evaluate_bezier",
-    "fd_distance", "fourier_descriptor", "fourier_descriptors", "normalised_strokes",
-    "read_sketch", "sample_bezier", "simplify", "simplify_all", "write_sketch",
+    "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "build_base_complex",
+    "clean_sketch", "CleaningReport", "curve_descriptors", "default_jobs", "evaluate_bezier",
+    "fd_distance", "fourier_descriptor", "fourier_descriptors", "Normalisation",
+    "normalised_strokes", "Patch", "read_sketch", "Region", "ReplayCache", "sample_bezier",
+    "Simplified", "simplified", "simplify", "simplify_all", "SimplifyParams", "SimplifyResult",
+    "Sketch", "SketchError", "Stroke", "write_sketch",
 ]

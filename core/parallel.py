@@ -20,19 +20,34 @@ import sys
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
 from .params import SimplifyParams
 from .simplify import simplify
-from .sketch import Sketch, SketchError, Stroke
+from .sketch import Region, Sketch, SketchError, Stroke
 
-__all__ = ["default_jobs", "simplify_all"]
+__all__ = ["Simplified", "default_jobs", "simplified", "simplify_all"]
 
 
-def _simplify_strokes(args: tuple[Sketch, SimplifyParams]) -> list[Stroke] | SketchError:
-    sketch, params = args
+@dataclass(frozen=True)
+class Simplified:
+    """What comes back of one sketch: the output strokes and, when asked for, its closed
+    regions (:meth:`core.simplify.SimplifyResult.fill_regions`)."""
+
+    strokes: list[Stroke]
+    regions: list[Region]
+
+
+def simplified(result, regions: bool) -> Simplified:
+    """The plain data of a result that crosses back to the caller."""
+    return Simplified(result.strokes, result.fill_regions() if regions else [])
+
+
+def _simplify_one(args: tuple[Sketch, SimplifyParams, bool]) -> Simplified | SketchError:
+    sketch, params, regions = args
     try:
-        return simplify(sketch, params).strokes
+        return simplified(simplify(sketch, params), regions)
     except SketchError as exc:
         return exc
 
@@ -84,17 +99,18 @@ def default_jobs() -> int:
 
 
 def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
-                 progress: Callable[[int, int], None] | None = None
-                 ) -> list[list[Stroke] | SketchError]:
-    """The output strokes of each sketch, in order; a sketch that cannot be simplified
-    gives its :class:`SketchError` in its place. ``jobs`` > 1 uses that many processes."""
+                 progress: Callable[[int, int], None] | None = None, regions: bool = False
+                 ) -> list[Simplified | SketchError]:
+    """What each sketch simplifies into, in order (with its fill regions if ``regions``);
+    a sketch that cannot be simplified gives its :class:`SketchError` in its place.
+    ``jobs`` > 1 uses that many processes."""
     if jobs < 1:
         raise SketchError(f"jobs must be at least 1, got {jobs}")
-    work = [(s, params) for s in sketches]
-    out: list[list[Stroke] | SketchError] = []
+    work = [(s, params, regions) for s in sketches]
+    out: list[Simplified | SketchError] = []
     if jobs == 1 or len(work) < 2:
         for k, item in enumerate(work):
-            out.append(_simplify_strokes(item))
+            out.append(_simplify_one(item))
             if progress is not None:
                 progress(k + 1, len(work))
         return out
@@ -103,7 +119,7 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
     with _main_script_hidden(), ProcessPoolExecutor(
             max_workers=min(jobs, len(work)), mp_context=context, initializer=initializer,
             initargs=initargs) as pool:
-        for k, result in enumerate(pool.map(_simplify_strokes, work)):
+        for k, result in enumerate(pool.map(_simplify_one, work)):
             out.append(result)
             if progress is not None:
                 progress(k + 1, len(work))

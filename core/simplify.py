@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 
+import numpy as np
 import shapely
 
 from .arrays.geometry import polygons_from
@@ -22,7 +23,11 @@ from .output.attributes import NearestInk
 from .output.memo import StrokeMemo
 from .output.to_strokes import to_strokes
 from .params import SimplifyParams
-from .sketch import Sketch, SketchError, Stroke
+from .sketch import Region, Sketch, SketchError, Stroke
+
+#: regions smaller than this share of the drawing's box are slivers between close lines,
+#: not regions to fill
+FILL_MIN_SHARE = 1e-3
 
 
 @dataclass
@@ -67,10 +72,34 @@ class SimplifyResult:
         return _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
                        state, history, params, None, timings, self._memo)
 
+    def fill_regions(self, min_share: float = FILL_MIN_SHARE) -> list[Region]:
+        """The closed regions of the simplified drawing as plain rings (input coordinates),
+        largest first, leaving out slivers smaller than ``min_share`` of the area of the
+        drawing's box: what a fill is drawn from. A region inside another is the other's
+        hole and a region of its own, after it (so that a fill drawn in this order, holes
+        cut out, leaves the inner fill whole)."""
+        smallest = min_share * 0.5 * self.normalisation.scale ** 2  # box of diagonal D
+        parts = [part for poly in self.regions() for part in shapely.get_parts(poly)
+                 if part.area >= smallest]
+        parts.sort(key=lambda part: -part.area)
+
+        def ring(r) -> np.ndarray:
+            return np.asarray(r.coords)[:-1]
+
+        return [Region(ring(part.exterior), tuple(ring(h) for h in part.interiors
+                                                  if shapely.Polygon(h).area >= smallest))
+                for part in parts]
+
     def regions(self) -> list[shapely.Polygon]:
-        """The patches left, as polygons in input coordinates (what a fill can use)."""
-        base = polygons_from([self.complex.ring_points(p.boundary)
-                              for p in self.complex.patches]) if self.complex.patches else []
+        """The patches left, as polygons in input coordinates (what a fill can use), with
+        their holes: a drawing inside a patch, touching it nowhere, is a hole in it."""
+        cx = self.complex
+        base = polygons_from([cx.ring_points(p.boundary) for p in cx.patches]) \
+            if cx.patches else []
+        for k, patch in enumerate(cx.patches):
+            if patch.holes:
+                base[k] = shapely.Polygon(base[k].exterior,
+                                          [cx.ring_points(h) for h in patch.holes])
         out = []
         for p in self.state.alive_patches():
             poly = shapely.union_all([base[k] for k in self.state.patch_origin[p]])
@@ -139,4 +168,4 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     return result
 
 
-__all__ = ["SimplifyResult", "simplify"]
+__all__ = ["FILL_MIN_SHARE", "SimplifyResult", "simplify"]

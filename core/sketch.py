@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["Sketch", "SketchError", "Stroke"]
+__all__ = ["Region", "Sketch", "SketchError", "Stroke"]
 
 
 class SketchError(ValueError):
@@ -127,3 +127,12 @@ class Sketch:
         """Length of the bounding-box diagonal, the paper's D."""
         x0, y0, x1, y1 = self.bounds()
         return float(np.hypot(x1 - x0, y1 - y0))
+
+
+@dataclass(frozen=True)
+class Region:
+    """A closed region of a drawing, for a fill: its outline and its holes, each an
+    ``(n, 2)`` ring (first point not repeated)."""
+
+    outline: np.ndarray
+    holes: tuple[np.ndarray, ...] = ()

@@ -7,7 +7,8 @@ Options: --objects NAME[,NAME] (default every Grease Pencil object), --layers vi
 --frames all|current|A-B, --epsilon E (and --alpha, --samples), --output PATH (a file for
 one input, a folder for several; default <name>_simplified.blend beside each input),
 --in-place (overwrite the input after copying it to <name>.blend1), --jobs N, --summary
-S.json. The result of each layer goes to a new layer above it, as the operator does.
+S.json, --fill-regions (the closed regions as fills too, on a layer under the lines).
+The result of each layer goes to a new layer above it, as the operator does.
 Exits 2 with one line on a missing file, a file without Grease Pencil or a bad frame range.
 """
 
@@ -65,6 +66,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--epsilon", type=float, help="how far to simplify (default: the core's)")
     p.add_argument("--alpha", type=float, help="bundle width as a fraction of the diagonal")
     p.add_argument("--samples", type=int, help="Fourier descriptor samples N")
+    p.add_argument("--fill-regions", action="store_true",
+                   help="also write the closed regions as fills, on a layer under the lines")
     p.add_argument("--output", type=Path, help="output .blend (one input) or folder")
     p.add_argument("--in-place", action="store_true", help="overwrite the input, after a "
                    ".blend1 backup")
@@ -101,7 +104,8 @@ def process(blend: Path | None, args, params, run, frames_mode, frame_range) -> 
     for ob in objects:
         options = SimpleNamespace(scope="CURRENT" if frames_mode == "current" else "ALL",
                                   layers=args.layers.upper(), output="LAYER",
-                                  hide_source=True, as_curve=False)
+                                  hide_source=True, as_curve=False,
+                                  fill_regions=args.fill_regions)
         report, results = run.simplify_object(ob, options, params, scene.frame_current,
                                               jobs=args.jobs, frame_range=frame_range)
         for r in results:

@@ -14,11 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import SAMPLES_PER_SEGMENT, Sketch, SketchError, Stroke
+from ..core import SAMPLES_PER_SEGMENT, Region, Sketch, SketchError, Stroke
 from .drawing import DrawingData, NewStrokes
 
 __all__ = [
-    "FAR_OUT", "Plane", "drawing_from_polylines", "drawing_plane", "far_out", "to_new_strokes",
+    "FAR_OUT", "FILL_RADIUS", "Plane", "drawing_from_polylines", "drawing_plane", "far_out",
+    "fill_strokes", "to_new_strokes",
     "to_sketch",
 ]
 
@@ -170,3 +171,24 @@ def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane
     return NewStrokes(knots, lefts, rights, radii, opacity,
                       colours if data.vertex_color is not None else None,
                       np.array(materials, np.int32), np.array(cyclic, bool))
+
+
+#: the radius of fill strokes: their outline is not meant to show
+FILL_RADIUS = 0.001
+
+
+def fill_strokes(regions: list[Region], plane: Plane, fill: int, hole: int) -> NewStrokes:
+    """Closed regions as cyclic strokes on the drawing's plane: each outline with material
+    ``fill``, then its holes with material ``hole`` (a holdout: it cuts the fill drawn
+    before it). Straight between the region's points: the handles sit on the knots."""
+    rings, materials = [], []
+    for region in regions:
+        rings.append(region.outline)
+        materials.append(fill)
+        rings += list(region.holes)
+        materials += [hole] * len(region.holes)
+    knots = [plane.to_3d(ring) for ring in rings]
+    return NewStrokes(knots, knots, knots,
+                      [np.full(len(k), FILL_RADIUS, np.float32) for k in knots],
+                      [np.ones(len(k), np.float32) for k in knots], None,
+                      np.array(materials, np.int32), np.ones(len(knots), bool))

@@ -44,6 +44,11 @@ class SimplifyOptions:
     hide_source: BoolProperty(name="Hide Source", default=True,
                               description="Hide each source layer once its result is written "
                               "to a new layer or object")
+    fill_regions: BoolProperty(
+        name="Fill Regions", default=False,
+        description="Also write the closed regions of the simplified drawing as fills, on a "
+        "layer under the lines (with the object's first fill material, or a new one); holes "
+        "stay holes. Not for As Curve Object")
     as_curve: BoolProperty(name="As Curve Object", default=False,
                            description="Write the result as a Bezier curve object (one per "
                            "layer, from the first drawing simplified) instead of strokes")

@@ -9,19 +9,37 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+import bpy
 import numpy as np
 
-from ..core import ReplayCache, SimplifyParams, SketchError, default_jobs, simplify, simplify_all
-from .convert import drawing_from_polylines, drawing_plane, far_out, to_new_strokes, to_sketch
+from ..core import (
+    ReplayCache,
+    SimplifyParams,
+    SketchError,
+    default_jobs,
+    simplified,
+    simplify,
+    simplify_all,
+)
+from .convert import (
+    drawing_from_polylines,
+    drawing_plane,
+    far_out,
+    fill_strokes,
+    to_new_strokes,
+    to_sketch,
+)
 from .curve_io import ink_material, new_curve_object, read_curve, write_bezier_splines
 from .drawing import NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
-    "FLAT", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings", "DrawingResult", "layer_to_world",
-    "match_parent", "place_above", "RunReport", "simplify_curve_object", "simplify_object",
-    "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
-    "write_curve_result", "write_results",
+    "FILL_MATERIAL", "FLAT", "HOLE_MATERIAL", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings",
+    "DrawingResult", "fill_materials", "layer_to_world", "match_parent", "new_layer_like",
+    "place_above", "RunReport", "simplify_curve_object", "simplify_object", "source_frames",
+    "target_layers", "untouchable_materials", "why_left_alone", "write_curve_result",
+    "write_frames",
+    "write_results",
 ]
 
 
@@ -52,6 +70,7 @@ class DrawingResult:
     frames: list  # every keyframe showing the drawing
     chosen: list[int]  # the strokes simplified
     new: NewStrokes
+    fills: NewStrokes | None = None  # its closed regions, when asked for
 
 
 def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewStrokes | None]:
@@ -245,11 +264,12 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         prepared.append((layer, frames, data, chosen, plane, to_sketch(data, chosen, plane)))
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
+    fills = options.fill_regions and not options.as_curve
     if jobs == 1:  # here, through the replay cache: the redo panel's slider replays
         outputs = []
         for k, item in enumerate(prepared):
             try:
-                outputs.append(REPLAY.strokes(item[-1], params))
+                outputs.append(simplified(REPLAY.result(item[-1], params), fills))
             except SketchError as exc:
                 outputs.append(exc)
             if progress is not None:
@@ -257,17 +277,21 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     else:
         outputs = simplify_all([p[-1] for p in prepared], params, jobs,
                                None if progress is None else lambda done, total:
-                               progress(done / total))
+                               progress(done / total), regions=fills)
+    materials = fill_materials(obj) if fills and prepared else None
     results = []
-    for (layer, frames, data, chosen, plane, _), strokes in zip(prepared, outputs):
-        if isinstance(strokes, SketchError):
-            report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({strokes})")
+    for (layer, frames, data, chosen, plane, _), out in zip(prepared, outputs):
+        if isinstance(out, SketchError):
+            report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({out})")
             continue
-        results.append(DrawingResult(layer, frames, chosen,
-                                     to_new_strokes(strokes, data, plane)))
+        results.append(DrawingResult(
+            layer, frames, chosen, to_new_strokes(out.strokes, data, plane),
+            fill_strokes(out.regions, plane, *materials) if materials else None))
         report.drawings += 1
         report.strokes_in += len(chosen)
-        report.strokes_out += len(strokes)
+        report.strokes_out += len(out.strokes)
+    if options.fill_regions and options.as_curve:
+        report.notes.append("no fills on curve objects")
     if held:
         report.notes.append(f"{held} stroke(s) of hidden or locked materials left alone")
     # an empty keyframe hides the drawing before it from its frame on: so must the output's
@@ -278,6 +302,40 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         report.notes.append(f"{len(kept)} empty keyframe(s) kept empty")
     report.seconds = time.perf_counter() - t0
     return report, results
+
+
+#: names of the materials made for fills: the fill itself, and the holdout cutting holes
+FILL_MATERIAL, HOLE_MATERIAL = "SketchSimp Fill", "SketchSimp Hole"
+
+
+def fill_materials(obj) -> tuple[int, int]:
+    """The material slots of the object for fills and for their holes: the first of its
+    materials that fills (not a holdout), or a new light grey fill; and a holdout fill,
+    made once. Added to the object's materials where missing."""
+    mats = obj.data.materials
+
+    def slot(found) -> int:
+        for k, mat in enumerate(mats):
+            if mat == found:
+                return k
+        mats.append(found)
+        return len(mats) - 1
+
+    def gp_material(name: str, holdout: bool, colour=(0.8, 0.8, 0.8, 1.0)):
+        mat = bpy.data.materials.get(name)
+        if mat is None or mat.grease_pencil is None:
+            mat = bpy.data.materials.new(name)
+            bpy.data.materials.create_gpencil_data(mat)
+            style = mat.grease_pencil
+            style.show_stroke, style.show_fill = False, True
+            style.fill_color = colour
+            style.use_fill_holdout = holdout
+        return mat
+
+    own = next((m for m in mats if m is not None and m.grease_pencil is not None
+                and m.grease_pencil.show_fill and not m.grease_pencil.use_fill_holdout), None)
+    fill = slot(own if own is not None else gp_material(FILL_MATERIAL, False))
+    return fill, slot(gp_material(HOLE_MATERIAL, True))
 
 
 def layer_to_world(obj, layer):
@@ -333,7 +391,15 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
                 r.layer.hide = True
         return target
     if options.output == "REPLACE":
+        filled = {}
         for r in results:
+            if r.fills is not None and r.fills.knots:  # a layer of fills under the source
+                if r.layer.name not in filled:
+                    below = filled[r.layer.name] = new_layer_like(obj.data, r.layer, " fills")
+                    place_above(obj.data, below, r.layer)
+                    if below.parent_group is None and r.layer.parent_group is None:
+                        obj.data.layers.move(below, "DOWN")  # now just under the source
+                write_frames(filled[r.layer.name], r.frames, r.fills)
             if not r.chosen:  # an empty keyframe: nothing to replace
                 continue
             drawing = r.frames[0].drawing
@@ -350,18 +416,15 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             coll.objects.link(target)
     else:
         target, gp = obj, obj.data
-    made = {}
+    made, filled = {}, {}
     for r in results:
         layer = r.layer
+        if r.fills is not None and r.fills.knots:
+            if layer.name not in filled:
+                filled[layer.name] = new_layer_like(gp, layer, " fills")
+            write_frames(filled[layer.name], r.frames, r.fills)
         if layer.name not in made:
-            dest = gp.layers.new(layer.name + " simplified", set_active=False)
-            # the same layer transform, so that the strokes land where the source's are
-            dest.translation, dest.rotation, dest.scale = (layer.translation, layer.rotation,
-                                                          layer.scale)
-            for name in LOOK:  # and drawn as the source is drawn
-                setattr(dest, name, getattr(layer, name))
-            if layer.parent is not None:
-                match_parent(dest, layer)
+            dest = new_layer_like(gp, layer, " simplified")
             if target is obj:
                 place_above(gp, dest, layer)
             made[layer.name] = dest
@@ -369,9 +432,32 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             # whole is hidden
             if options.hide_source and options.scope != "SELECTED":
                 layer.hide = True
-        dest = made[layer.name]
-        first = r.frames[0].frame_number
-        write_strokes(dest.frames.new(first).drawing, r.new)
-        for frame in r.frames[1:]:  # keyframes that shared the source drawing share this one
-            dest.frames.copy(first, frame.frame_number, instance_drawing=True)
+        write_frames(made[layer.name], r.frames, r.new)
+    sources = {r.layer.name: r.layer for r in results}
+    for name, below in filled.items():  # fills just under their lines
+        if target is obj:  # the lines are just above the source: the fills go between
+            place_above(gp, below, sources[name])
+        elif name in made:  # a new object's layers stack as made: the lines go above
+            place_above(gp, made[name], below)
     return target
+
+
+def new_layer_like(gp, layer, suffix: str):
+    """A new layer named after ``layer``, placed and drawn as it is: the same transform
+    (so that its strokes land where the source's are), parent and look."""
+    new = gp.layers.new(layer.name + suffix, set_active=False)
+    new.translation, new.rotation, new.scale = layer.translation, layer.rotation, layer.scale
+    for name in LOOK:
+        setattr(new, name, getattr(layer, name))
+    if layer.parent is not None:
+        match_parent(new, layer)
+    return new
+
+
+def write_frames(dest, frames: list, new: NewStrokes) -> None:
+    """New strokes on a layer at the keyframes of a source drawing: one drawing, shared by
+    the keyframes that shared the source's."""
+    first = frames[0].frame_number
+    write_strokes(dest.frames.new(first).drawing, new)
+    for frame in frames[1:]:
+        dest.frames.copy(first, frame.frame_number, instance_drawing=True)

@@ -316,6 +316,52 @@ def test_frame_range_simplifies_what_the_scene_shows():
     scene.use_preview_range = False
 
 
+def fill_of(drawing, ob) -> list[tuple[int, str]]:
+    """(points, material name) of each stroke of a drawing."""
+    attrs = drawing.attributes
+    n = attrs.domain_size("CURVE")
+    index = np.zeros(n, np.int32)
+    if attrs.get("material_index") is not None:
+        attrs["material_index"].data.foreach_get("value", index)
+    return [(len(s), ob.data.materials[int(k)].name) for s, k in zip(strokes_of(drawing), index)]
+
+
+@pytest.mark.parametrize("output", ["LAYER", "REPLACE", "OBJECT"])
+def test_fill_regions_writes_fills_under_the_lines(output):
+    ob = make_object({1: "cup", 5: "house"})
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", output=output, fill_regions=True,
+                                       hide_source=False) == {"FINISHED"}
+    target = bpy.data.objects["Sketch simplified"] if output == "OBJECT" else ob
+    names = [x.name for x in target.data.layers]  # bottom to top
+    lines = "Lines" if output == "REPLACE" else "Lines simplified"
+    assert names.index("Lines fills") == names.index(lines) - 1  # just under the lines
+    fills = target.data.layers["Lines fills"]
+    assert sorted(f.frame_number for f in fills.frames) == [1, 5]
+    strokes = fill_of(fills.frames[0].drawing, target)
+    assert strokes and all(name == "SketchSimp Fill" for _, name in strokes)
+    mat = bpy.data.materials["SketchSimp Fill"].grease_pencil
+    assert mat.show_fill and not mat.show_stroke
+
+
+def test_a_hole_in_a_region_stays_a_hole():
+    ob = make_object({1: None})
+    t = np.linspace(0, 1, 40, dtype=np.float32)[:, None]
+
+    def square(lo: float, hi: float, wobble: float) -> list[np.ndarray]:
+        side = [(lo, lo, hi, lo), (hi, lo, hi, hi), (hi, hi, lo, hi), (lo, hi, lo, lo)]
+        return [np.hstack([x0 + (x1 - x0) * t, np.full_like(t, wobble),
+                           z0 + (z1 - z0) * t]) for x0, z0, x1, z1 in side]
+
+    fill_drawing(ob.data.layers["Lines"].frames[0].drawing,
+                 square(0.0, 1.0, 0.0) + square(0.35, 0.65, 0.0))
+    assert bpy.ops.sketchsimp.simplify(fill_regions=True) == {"FINISHED"}
+    strokes = fill_of(ob.data.layers["Lines fills"].frames[0].drawing, ob)
+    kinds = [name for _, name in strokes]
+    # the ring with its hole cut out, then the inner square filled again
+    assert kinds == ["SketchSimp Fill", "SketchSimp Hole", "SketchSimp Fill"]
+    assert bpy.data.materials["SketchSimp Hole"].grease_pencil.use_fill_holdout
+
+
 def test_selected_strokes_only():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing
@@ -569,7 +615,7 @@ def test_many_keyframes_go_through_the_process_pool():
     ob = make_object({1 + 4 * k: name for k, name in enumerate(samples)})
 
     class Options:
-        scope, layers = "ALL", "ACTIVE"
+        scope, layers, fill_regions, as_curve = "ALL", "ACTIVE", False, False
 
     from sketchsimp.core import SimplifyParams  # the extension's own copy of core
     report, results = simplify_object(ob, Options, SimplifyParams(), 1, jobs=1)

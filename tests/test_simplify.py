@@ -368,3 +368,18 @@ def test_at_a_junction_as_many_lines_as_can_continue_do():
     pairs = {tuple(sorted(round(float(np.degrees(np.arctan2(p[1], p[0])))) % 360
                           for p in e.points[[0, -1]])) for e in joined}
     assert pairs == {(0, 156), (28, 192)}
+
+
+def test_a_square_inside_a_square_is_a_hole_of_its_region():
+    t = np.linspace(0, 1, 40)[:, None]
+
+    def square(lo: float, hi: float) -> list[Stroke]:
+        sides = [(lo, lo, hi, lo), (hi, lo, hi, hi), (hi, hi, lo, hi), (lo, hi, lo, lo)]
+        return [Stroke(np.hstack([x0 + (x1 - x0) * t, y0 + (y1 - y0) * t]))
+                for x0, y0, x1, y1 in sides]
+
+    result = simplify(Sketch(square(0.0, 1.0) + square(0.35, 0.65)))
+    areas = sorted(round(r.area, 3) for r in result.regions())
+    assert areas == [0.09, 0.91]  # the ring has the inner square cut out
+    ring, inner = result.fill_regions()
+    assert len(ring.holes) == 1 and not inner.holes

@@ -45,8 +45,8 @@ def batch(in_dir: Path, out_dir: Path, params: SimplifyParams, jobs: int,
         # fish.svg and fish.scap side by side would both make fish.svg: keep the suffix then
         clash = sum(p.stem == path.stem for p in files) > 1
         target = out_dir / ((path.name if clash else path.stem) + suffix)
-        write_sketch(Sketch(out, sketch.width, sketch.height), target)
-        rows[path.name].update(strokes_out=len(out), output=str(target))
+        write_sketch(Sketch(out.strokes, sketch.width, sketch.height), target)
+        rows[path.name].update(strokes_out=len(out.strokes), output=str(target))
     failed = {k: v["error"] for k, v in rows.items() if "error" in v}
     done = [v for v in rows.values() if "error" not in v]
     seconds = time.perf_counter() - t0
