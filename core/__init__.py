@@ -27,11 +27,12 @@ from .params import PAPER_ALPHA, SimplifyParams
 from .replay_cache import ReplayCache
 from .simplify import SimplifyResult, simplify
 from .sketch import Region, Sketch, SketchError, Stroke
+from .stable import held_to
 
 __all__ = [
     "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "build_base_complex",
     "clean_sketch", "CleaningReport", "curve_descriptors", "default_jobs", "evaluate_bezier",
-    "fd_distance", "fourier_descriptor", "fourier_descriptors", "Normalisation",
+    "fd_distance", "fourier_descriptor", "fourier_descriptors", "held_to", "Normalisation",
     "normalised_strokes", "Patch", "read_sketch", "Region", "ReplayCache", "sample_bezier",
     "Simplified", "simplified", "simplify", "simplify_all", "SimplifyParams", "SimplifyResult",
     "Sketch", "SketchError", "Stroke", "write_sketch",

@@ -37,11 +37,13 @@ class Simplified:
 
     strokes: list[Stroke]
     regions: list[Region]
+    width: float  #: the bundle width used, in the sketch's units (d_eps)
 
 
 def simplified(result, regions: bool) -> Simplified:
     """The plain data of a result that crosses back to the caller."""
-    return Simplified(result.strokes, result.fill_regions() if regions else [])
+    return Simplified(result.strokes, result.fill_regions() if regions else [],
+                      result.params.alpha * result.normalisation.scale)
 
 
 def _simplify_one(args: tuple[Sketch, SimplifyParams, bool]) -> Simplified | SketchError:

@@ -7,7 +7,8 @@ Options: --objects NAME[,NAME] (default every Grease Pencil object), --layers vi
 --frames all|current|A-B, --epsilon E (and --alpha, --samples), --output PATH (a file for
 one input, a folder for several; default <name>_simplified.blend beside each input),
 --in-place (overwrite the input after copying it to <name>.blend1), --jobs N, --summary
-S.json, --fill-regions (the closed regions as fills too, on a layer under the lines).
+S.json, --fill-regions (the closed regions as fills too, on a layer under the lines),
+--no-stable (each keyframe simplified on its own, not held to the one before).
 The result of each layer goes to a new layer above it, as the operator does.
 Exits 2 with one line on a missing file, a file without Grease Pencil or a bad frame range.
 """
@@ -66,6 +67,9 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--epsilon", type=float, help="how far to simplify (default: the core's)")
     p.add_argument("--alpha", type=float, help="bundle width as a fraction of the diagonal")
     p.add_argument("--samples", type=int, help="Fourier descriptor samples N")
+    p.add_argument("--stable", action=argparse.BooleanOptionalAction, default=True,
+                   help="hold each keyframe's lines to the one before where the drawing did "
+                   "not change (default: on)")
     p.add_argument("--fill-regions", action="store_true",
                    help="also write the closed regions as fills, on a layer under the lines")
     p.add_argument("--output", type=Path, help="output .blend (one input) or folder")
@@ -105,7 +109,7 @@ def process(blend: Path | None, args, params, run, frames_mode, frame_range) -> 
         options = SimpleNamespace(scope="CURRENT" if frames_mode == "current" else "ALL",
                                   layers=args.layers.upper(), output="LAYER",
                                   hide_source=True, as_curve=False,
-                                  fill_regions=args.fill_regions)
+                                  fill_regions=args.fill_regions, stable=args.stable)
         report, results = run.simplify_object(ob, options, params, scene.frame_current,
                                               jobs=args.jobs, frame_range=frame_range)
         for r in results:

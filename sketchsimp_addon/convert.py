@@ -19,7 +19,7 @@ from .drawing import DrawingData, NewStrokes
 
 __all__ = [
     "FAR_OUT", "FILL_RADIUS", "Plane", "drawing_from_polylines", "drawing_plane", "far_out",
-    "fill_strokes", "to_new_strokes",
+    "fill_strokes", "stroke_moved", "to_new_strokes",
     "to_sketch",
 ]
 
@@ -34,6 +34,10 @@ class Plane:
 
     def to_3d(self, points: np.ndarray) -> np.ndarray:
         return (self.centre + points @ self.axes).astype(np.float32)
+
+    def moved_from(self, other: Plane, points: np.ndarray) -> np.ndarray:
+        """2D points of ``other`` plane, in this plane's 2D frame (in full precision)."""
+        return self.to_2d(other.centre + np.asarray(points, np.float64) @ other.axes)
 
     def off_plane(self, points: np.ndarray) -> float:
         """How far the points farthest from the plane are from it (what flattening onto
@@ -192,3 +196,13 @@ def fill_strokes(regions: list[Region], plane: Plane, fill: int, hole: int) -> N
                       [np.full(len(k), FILL_RADIUS, np.float32) for k in knots],
                       [np.ones(len(k), np.float32) for k in knots], None,
                       np.array(materials, np.int32), np.ones(len(knots), bool))
+
+
+def stroke_moved(stroke: Stroke, before: Plane, after: Plane) -> Stroke:
+    """An output stroke of a drawing on plane ``before``, in the 2D frame of ``after``
+    (another keyframe's drawing of the same layer)."""
+    return Stroke(after.moved_from(before, stroke.points), width=stroke.width,
+                  pressure=stroke.pressure, style=stroke.style,
+                  bezier=None if stroke.bezier is None else after.moved_from(before,
+                                                                             stroke.bezier),
+                  closed=stroke.closed, sources=stroke.sources)

@@ -93,7 +93,8 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(self, "epsilon", slider=True)
-        for name in ("scope", "layers", "output", "hide_source", "fill_regions", "as_curve"):
+        for name in ("scope", "layers", "output", "hide_source", "stable", "fill_regions",
+                     "as_curve"):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")

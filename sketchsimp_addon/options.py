@@ -44,6 +44,11 @@ class SimplifyOptions:
     hide_source: BoolProperty(name="Hide Source", default=True,
                               description="Hide each source layer once its result is written "
                               "to a new layer or object")
+    stable: BoolProperty(
+        name="Stable Across Frames", default=True,
+        description="With All Keyframes or Frame Range: hold each keyframe's lines to the "
+        "keyframe's before it where the drawing did not change (within the bundle width), "
+        "so that slightly redrawn frames do not boil")
     fill_regions: BoolProperty(
         name="Fill Regions", default=False,
         description="Also write the closed regions of the simplified drawing as fills, on a "

@@ -9,7 +9,7 @@ from .options import SimplifyOptions
 
 __all__ = ["OPTION_NAMES", "SKETCHSIMP_PT_panel", "SketchSimpSettings"]
 
-OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "fill_regions",
+OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "stable", "fill_regions",
                 "as_curve", "alpha",
                 "samples", "angle", "beta", "join_angle", "corner_angle")
 
@@ -36,6 +36,7 @@ class SKETCHSIMP_PT_panel(bpy.types.Panel):
         layout.prop(settings, "layers")
         layout.prop(settings, "output")
         layout.prop(settings, "hide_source")
+        layout.prop(settings, "stable")
         layout.prop(settings, "fill_regions")
         layout.prop(settings, "as_curve")
         op = layout.operator("sketchsimp.simplify", icon="MOD_SIMPLIFY")

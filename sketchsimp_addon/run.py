@@ -7,7 +7,7 @@ Kept apart from the operator class so that the operator is only the Blender-faci
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import bpy
 import numpy as np
@@ -17,6 +17,7 @@ from ..core import (
     SimplifyParams,
     SketchError,
     default_jobs,
+    held_to,
     simplified,
     simplify,
     simplify_all,
@@ -26,6 +27,7 @@ from .convert import (
     drawing_plane,
     far_out,
     fill_strokes,
+    stroke_moved,
     to_new_strokes,
     to_sketch,
 )
@@ -35,11 +37,10 @@ from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
     "FILL_MATERIAL", "FLAT", "HOLE_MATERIAL", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings",
-    "DrawingResult", "fill_materials", "layer_to_world", "match_parent", "new_layer_like",
-    "place_above", "RunReport", "simplify_curve_object", "simplify_object", "source_frames",
-    "target_layers", "untouchable_materials", "why_left_alone", "write_curve_result",
-    "write_frames",
-    "write_results",
+    "DrawingResult", "fill_materials", "held_across_frames", "layer_to_world", "match_parent",
+    "new_layer_like", "place_above", "RunReport", "simplify_curve_object", "simplify_object",
+    "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
+    "write_curve_result", "write_frames", "write_results",
 ]
 
 
@@ -278,6 +279,8 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         outputs = simplify_all([p[-1] for p in prepared], params, jobs,
                                None if progress is None else lambda done, total:
                                progress(done / total), regions=fills)
+    if options.stable and options.scope in ("ALL", "RANGE"):
+        outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
     results = []
     for (layer, frames, data, chosen, plane, _), out in zip(prepared, outputs):
@@ -344,6 +347,27 @@ def layer_to_world(obj, layer):
     if layer.parent is not None:
         return layer.parent.matrix_world @ layer.matrix_parent_inverse @ layer.matrix_local
     return obj.matrix_world @ layer.matrix_local
+
+
+def held_across_frames(prepared: list[tuple], outputs: list) -> list:
+    """Each layer's results, keyframe by keyframe, held to the keyframe's before it
+    (:func:`core.held_to`): the previous lines brought onto this drawing's plane, kept
+    where this result still draws them within the bundle width."""
+    out = list(outputs)
+    previous: dict[int, tuple] = {}  # layer -> (its last strokes, their plane)
+    order = sorted(range(len(prepared)), key=lambda k: (prepared[k][0].as_pointer(),
+                                                        prepared[k][1][0].frame_number))
+    for k in order:
+        layer, plane = prepared[k][0], prepared[k][4]
+        if isinstance(out[k], SketchError):
+            continue
+        before = previous.get(layer.as_pointer())
+        if before is not None:
+            strokes, was = before
+            out[k] = replace(out[k], strokes=held_to(
+                [stroke_moved(s, was, plane) for s in strokes], out[k].strokes, out[k].width))
+        previous[layer.as_pointer()] = (out[k].strokes, plane)
+    return out
 
 
 def match_parent(layer, source) -> None:

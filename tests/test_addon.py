@@ -362,6 +362,30 @@ def test_a_hole_in_a_region_stays_a_hole():
     assert bpy.data.materials["SketchSimp Hole"].grease_pencil.use_fill_holdout
 
 
+@pytest.mark.parametrize("stable", [True, False])
+def test_jittered_keyframes_keep_their_lines_when_stable(stable):
+    """The same drawing redrawn with 0.5 px of jitter on five keyframes: held to each
+    other, the outputs keep their stroke count within 2 and their lines in place."""
+    rng = np.random.default_rng(0)
+    house = sample_points("house")
+    ob = make_object({k: None for k in (1, 2, 3, 4, 5)})
+    for frame in ob.data.layers["Lines"].frames:
+        fill_drawing(frame.drawing, [s + rng.normal(0, 0.5 * SCALE, s.shape).astype(np.float32)
+                                     for s in house])
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", stable=stable) == {"FINISHED"}
+    outs = [strokes_of(f.drawing) for f in ob.data.layers["Lines simplified"].frames]
+    counts = [len(o) for o in outs]
+    if stable:
+        assert max(counts) - min(counts) <= 2
+        for a, b in zip(outs[:-1], outs[1:]):  # consecutive outputs within 0.3% of D
+            size = float(np.hypot(*np.ptp(np.concatenate(house)[:, [0, 2]], axis=0)))
+            pa, pb = np.concatenate(a)[:, [0, 2]], np.concatenate(b)[:, [0, 2]]
+            far = shapely.distance(shapely.points(pa), shapely.MultiPoint(pb))
+            assert float(np.mean(far)) < 0.003 * size
+    else:  # each keyframe on its own: the lines boil
+        assert max(counts) - min(counts) > 2
+
+
 def test_selected_strokes_only():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing
@@ -615,7 +639,7 @@ def test_many_keyframes_go_through_the_process_pool():
     ob = make_object({1 + 4 * k: name for k, name in enumerate(samples)})
 
     class Options:
-        scope, layers, fill_regions, as_curve = "ALL", "ACTIVE", False, False
+        scope, layers, fill_regions, as_curve, stable = "ALL", "ACTIVE", False, False, False
 
     from sketchsimp.core import SimplifyParams  # the extension's own copy of core
     report, results = simplify_object(ob, Options, SimplifyParams(), 1, jobs=1)

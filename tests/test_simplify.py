@@ -383,3 +383,24 @@ def test_a_square_inside_a_square_is_a_hole_of_its_region():
     assert areas == [0.09, 0.91]  # the ring has the inner square cut out
     ring, inner = result.fill_regions()
     assert len(ring.holes) == 1 and not inner.holes
+
+
+def test_jittered_copies_held_to_each_other_keep_their_strokes():
+    """Five copies of a sketch with 0.5 px of jitter: alone, their outputs are cut
+    differently (the house sample gives 6 to 10 strokes); each held to the one before
+    (core.held_to), they keep their strokes."""
+    from core import held_to
+
+    sketch = read_sketch(SAMPLES / "house.scap")
+    rng = np.random.default_rng(0)
+    alone, held, previous = [], [], None
+    for _ in range(5):
+        result = simplify(Sketch([Stroke(s.points + rng.normal(0, 0.5, s.points.shape))
+                                  for s in sketch.strokes]))
+        width = result.params.alpha * result.normalisation.scale
+        current = result.strokes if previous is None else held_to(previous, result.strokes,
+                                                                   width)
+        alone.append(len(result.strokes))
+        held.append(len(current))
+        previous = current
+    assert max(alone) - min(alone) > 2 and max(held) - min(held) <= 2
