@@ -487,6 +487,18 @@ def test_odd_curve_splines_are_skipped_and_the_source_kept():
     assert len(out) > 0 and np.isfinite(co).all()
 
 
+def parent_to_a_moving_empty(layer, at: tuple, then: tuple):
+    """Parent a layer to a new empty at ``at``, then move the empty to ``then``."""
+    empty = bpy.data.objects.new("Rig", None)
+    bpy.context.scene.collection.objects.link(empty)
+    empty.location = at
+    bpy.context.view_layer.update()
+    layer.parent = empty
+    empty.location = then
+    bpy.context.view_layer.update()
+    return empty
+
+
 def curve_points_world(ob) -> np.ndarray:
     co = np.concatenate([[p.co[:] for p in s.bezier_points] for s in ob.data.splines])
     m = np.array(ob.matrix_world)
@@ -498,13 +510,7 @@ def test_grease_pencil_to_a_bezier_curve_object_that_renders_where_the_ink_is(pa
     ob = make_object({1: "house"})
     layer = ob.data.layers["Lines"]
     if parented:  # the layer follows an empty 4.8 m away
-        empty = bpy.data.objects.new("Rig", None)
-        bpy.context.scene.collection.objects.link(empty)
-        empty.location = (4.8, 0.0, 0.0)
-        bpy.context.view_layer.update()
-        layer.parent = empty
-        empty.location = (4.8, 0.0, 1.0)
-        bpy.context.view_layer.update()
+        parent_to_a_moving_empty(layer, (4.8, 0.0, 0.0), (4.8, 0.0, 1.0))
     assert bpy.ops.sketchsimp.simplify(as_curve=True) == {"FINISHED"}
     out = bpy.data.objects["Sketch Lines simplified"]
     assert out.type == "CURVE" and len(out.data.splines) > 0
@@ -578,14 +584,9 @@ def test_visible_layers_each_get_a_layer_just_above():
 def test_layer_transform_and_parent_are_kept_and_edit_mode_works():
     ob = make_object({1: "house"})
     layer = ob.data.layers["Lines"]
-    empty = bpy.data.objects.new("Rig", None)
-    bpy.context.scene.collection.objects.link(empty)
-    empty.location = (1.0, 2.0, 3.0)
-    bpy.context.view_layer.update()
-    layer.parent = empty
     layer.translation = (0.5, 0.0, 0.25)
-    empty.location = (-2.0, 0.0, 1.0)  # the rig moved after the layer was parented
-    bpy.context.view_layer.update()
+    # the rig moved after the layer was parented
+    empty = parent_to_a_moving_empty(layer, (1.0, 2.0, 3.0), (-2.0, 0.0, 1.0))
     bpy.context.view_layer.objects.active = ob
     bpy.ops.object.mode_set(mode="EDIT")
     try:
