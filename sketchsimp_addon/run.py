@@ -251,14 +251,13 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         points = data.positions[np.concatenate([np.arange(data.offsets[k], data.offsets[k + 1])
                                                 for k in chosen])]
         if np.isfinite(points).all(axis=1).sum() < 2:  # drawing_plane leaves NaN points out
-            report.skipped.append(f"a drawing without finite points on '{layer.name}' frame "
-                                  f"{frames[0].frame_number}")
+            report.skipped.append(f"a drawing without finite points on {where}")
             continue
         plane = drawing_plane(points)
         off = plane.off_plane(points)
         size = float(np.hypot(*np.ptp(plane.to_2d(points[np.isfinite(points).all(axis=1)]),
                                       axis=0)))
-        if off > FLAT * size:
+        if size > 0 and off > FLAT * size:
             report.notes.append(f"the drawing on {where} is not flat: points up to {off:.3g} "
                                 f"off its plane ({100 * off / size:.0f}% of its size) were "
                                 "flattened onto it")
