@@ -60,10 +60,9 @@ class SimplifyResult:
                               "range this result's merge history covers")
         t0 = time.perf_counter()
         state = ComplexState(self.complex)
-        tp, tc = self.params.target_patches, self.params.target_curves
         for merge in self.history:
-            if (merge.cost >= epsilon or (tp is not None and state.num_patches <= tp)
-                    or (tc is not None and state.num_curves <= tc)):
+            if merge.cost >= epsilon or state.targets_reached(self.params.target_patches,
+                                                              self.params.target_curves):
                 break
             state.apply(merge)
         params = replace(self.params, epsilon=epsilon)

@@ -66,7 +66,6 @@ def arc_lengths(points: np.ndarray, first: np.ndarray | None = None,
     step[0] = 0.0
     np.hypot(d[:, 0], d[:, 1], out=step[1:])
     if first is None or len(first) == 1:
-        step[0] = 0.0
         return np.cumsum(step)
     sizes = last - first + 1
     if len(sizes) * int(sizes.max()) <= 4 * len(points):

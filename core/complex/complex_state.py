@@ -94,6 +94,12 @@ class ComplexState:
     def num_patches(self) -> int:
         return self._num_patches
 
+    def targets_reached(self, patches: int | None, curves: int | None) -> bool:
+        """Whether no more than ``patches`` patches or ``curves`` curves are left (None:
+        no such target): where a run with targets stops, and so its replay."""
+        return ((patches is not None and self._num_patches <= patches)
+                or (curves is not None and self._num_curves <= curves))
+
     def shared_curves(self, p: int, q: int) -> list[int]:
         small, large = sorted((self.patch_curves[p], self.patch_curves[q]), key=len)
         return sorted(c for c in small if c in large)

@@ -1,4 +1,5 @@
-"""Cleaning raw strokes and normalising a sketch to a unit bounding-box diagonal."""
+"""Cleaning raw strokes, and the frame the pipeline works in: the drawing's own box
+(the strokes' bounding box unless some ink lies far away) at unit diagonal."""
 
 from __future__ import annotations
 
@@ -112,7 +113,7 @@ class Normalisation:
 
 
 def normalised_strokes(sketch: Sketch) -> tuple[list[np.ndarray], Normalisation]:
-    """The stroke polylines of a cleaned sketch in the unit-diagonal frame."""
+    """The stroke polylines of a cleaned sketch in the drawing's unit-diagonal frame."""
     norm = Normalisation.of(sketch)
     return [norm.to_unit(s.points) for s in sketch.strokes], norm
 

@@ -378,21 +378,17 @@ class Agglomerator:
         """Drop queue entries of merged-away primitives once they are most of the queue,
         and the curve pairs kept for them."""
         if self.queue.compact(self._alive):
-            self.merged = {k: v for k, v in self.merged.items()
-                           if self.state.curve_alive[k[0]] and self.state.curve_alive[k[1]]}
+            alive = self.state.curve_alive
+            self.merged = {k: v for k, v in self.merged.items() if alive[k[0]] and alive[k[1]]}
             self.precosted = {k: v for k, v in self.precosted.items()
-                              if self.state.curve_alive[k[0]] and self.state.curve_alive[k[1]]}
-
-    def _target_reached(self) -> bool:
-        tp, tc = self.params.target_patches, self.params.target_curves
-        return ((tp is not None and self.state.num_patches <= tp)
-                or (tc is not None and self.state.num_curves <= tc))
+                              if alive[k[0]] and alive[k[1]]}
 
     def step(self) -> bool:
         """Take the next entry off the queue and act on it: skip it (a primitive has
         gone), re-cost it and queue it again (stale), or merge it (fresh and cheaper than
         epsilon). Returns False when the run is over."""
-        if not self.queue or self._target_reached():
+        if not self.queue or self.state.targets_reached(self.params.target_patches,
+                                                        self.params.target_curves):
             return False
         entry = self.queue.pop()
         if not self._alive(entry):
