@@ -16,6 +16,8 @@ width of the new result, so nothing is drawn where the new keyframe has no line.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import shapely
 
@@ -69,9 +71,7 @@ def held_to(previous: list[Stroke], current: list[Stroke], width: float) -> list
     if not previous or not current or not width > 0:
         return list(current)
     on_current, along = _near(previous, current, width)
-    kept = [Stroke(p.points, width=p.width, pressure=p.pressure, style=p.style,
-                   bezier=p.bezier, closed=p.closed,
-                   sources=tuple(sorted({i for c in near for i in current[c].sources})))
+    kept = [replace(p, sources=tuple(sorted({i for c in near for i in current[c].sources})))
             for p, share, near in zip(previous, on_current, along) if share >= 1 - MISSED]
     on_kept, _ = _near(current, kept, width)
     return kept + [c for c, share in zip(current, on_kept) if share < HELD]

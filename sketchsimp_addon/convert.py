@@ -10,7 +10,7 @@ stroke come from the input strokes it was made from.
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -201,8 +201,6 @@ def fill_strokes(regions: list[Region], plane: Plane, fill: int, hole: int) -> N
 def stroke_moved(stroke: Stroke, before: Plane, after: Plane) -> Stroke:
     """An output stroke of a drawing on plane ``before``, in the 2D frame of ``after``
     (another keyframe's drawing of the same layer)."""
-    return Stroke(after.moved_from(before, stroke.points), width=stroke.width,
-                  pressure=stroke.pressure, style=stroke.style,
-                  bezier=None if stroke.bezier is None else after.moved_from(before,
-                                                                             stroke.bezier),
-                  closed=stroke.closed, sources=stroke.sources)
+    return replace(stroke, points=after.moved_from(before, stroke.points),
+                   bezier=None if stroke.bezier is None else after.moved_from(before,
+                                                                              stroke.bezier))
