@@ -15,6 +15,7 @@ import numpy as np
 from ..core import (
     ReplayCache,
     SimplifyParams,
+    Sketch,
     SketchError,
     default_jobs,
     held_to,
@@ -23,6 +24,7 @@ from ..core import (
     simplify_all,
 )
 from .convert import (
+    Plane,
     drawing_from_polylines,
     drawing_plane,
     far_out,
@@ -32,15 +34,15 @@ from .convert import (
     to_sketch,
 )
 from .curve_io import ink_material, new_curve_object, read_curve, write_bezier_splines
-from .drawing import NewStrokes
+from .drawing import DrawingData, NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
     "FILL_MATERIAL", "FLAT", "HOLE_MATERIAL", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings",
     "DrawingResult", "fill_materials", "held_across_frames", "layer_to_world", "match_parent",
-    "new_layer_like", "place_above", "RunReport", "simplify_curve_object", "simplify_object",
-    "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
-    "write_curve_result", "write_frames", "write_results",
+    "new_layer_like", "place_above", "Prepared", "RunReport", "simplify_curve_object",
+    "simplify_object", "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
+    "write_curve_result", "write_fills", "write_frames", "write_results",
 ]
 
 
@@ -72,6 +74,19 @@ class DrawingResult:
     chosen: list[int]  # the strokes simplified
     new: NewStrokes
     fills: NewStrokes | None = None  # its closed regions, when asked for
+
+
+@dataclass
+class Prepared:
+    """A drawing ready for the core: where it came from, what was read of it, the strokes
+    chosen, its plane, and the sketch made of them on that plane."""
+
+    layer: object
+    frames: list  # every keyframe showing the drawing
+    data: DrawingData
+    chosen: list[int]
+    plane: Plane
+    sketch: Sketch
 
 
 def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewStrokes | None]:
@@ -261,7 +276,8 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             report.notes.append(f"the drawing on {where} is not flat: points up to {off:.3g} "
                                 f"off its plane ({100 * off / size:.0f}% of its size) were "
                                 "flattened onto it")
-        prepared.append((layer, frames, data, chosen, plane, to_sketch(data, chosen, plane)))
+        prepared.append(Prepared(layer, frames, data, chosen, plane,
+                                 to_sketch(data, chosen, plane)))
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
     fills = options.fill_regions and not options.as_curve
@@ -269,28 +285,28 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
         outputs = []
         for k, item in enumerate(prepared):
             try:
-                outputs.append(simplified(REPLAY.result(item[-1], params), fills))
+                outputs.append(simplified(REPLAY.result(item.sketch, params), fills))
             except SketchError as exc:
                 outputs.append(exc)
             if progress is not None:
                 progress((k + 1) / len(prepared))
     else:
-        outputs = simplify_all([p[-1] for p in prepared], params, jobs,
+        outputs = simplify_all([p.sketch for p in prepared], params, jobs,
                                None if progress is None else lambda done, total:
                                progress(done / total), regions=fills)
     if options.stable and options.scope in ("ALL", "RANGE"):
         outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
     results = []
-    for (layer, frames, data, chosen, plane, _), out in zip(prepared, outputs):
+    for p, out in zip(prepared, outputs):
         if isinstance(out, SketchError):
-            report.skipped.append(f"'{layer.name}' frame {frames[0].frame_number} ({out})")
+            report.skipped.append(f"'{p.layer.name}' frame {p.frames[0].frame_number} ({out})")
             continue
         results.append(DrawingResult(
-            layer, frames, chosen, to_new_strokes(out.strokes, data, plane),
-            fill_strokes(out.regions, plane, *materials) if materials else None))
+            p.layer, p.frames, p.chosen, to_new_strokes(out.strokes, p.data, p.plane),
+            fill_strokes(out.regions, p.plane, *materials) if materials else None))
         report.drawings += 1
-        report.strokes_in += len(chosen)
+        report.strokes_in += len(p.chosen)
         report.strokes_out += len(out.strokes)
     if options.fill_regions and options.as_curve:
         report.notes.append("no fills on curve objects")
@@ -348,16 +364,16 @@ def layer_to_world(obj, layer):
     return obj.matrix_world @ layer.matrix_local
 
 
-def held_across_frames(prepared: list[tuple], outputs: list) -> list:
+def held_across_frames(prepared: list[Prepared], outputs: list) -> list:
     """Each layer's results, keyframe by keyframe, held to the keyframe's before it
     (:func:`core.held_to`): the previous lines brought onto this drawing's plane, kept
     where this result still draws them within the bundle width."""
     out = list(outputs)
     previous: dict[int, tuple] = {}  # layer -> (its last strokes, their plane)
-    order = sorted(range(len(prepared)), key=lambda k: (prepared[k][0].as_pointer(),
-                                                        prepared[k][1][0].frame_number))
+    order = sorted(range(len(prepared)), key=lambda k: (prepared[k].layer.as_pointer(),
+                                                        prepared[k].frames[0].frame_number))
     for k in order:
-        layer, plane = prepared[k][0], prepared[k][4]
+        layer, plane = prepared[k].layer, prepared[k].plane
         if isinstance(out[k], SketchError):
             continue
         before = previous.get(layer.as_pointer())
@@ -405,24 +421,23 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             target.matrix_world = layer_to_world(obj, r.layer)
             write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
                                  r.new.handles_right, list(r.new.cyclic), r.new.radius)
-            for slot in sorted(set(r.new.material_index.tolist())) or [0]:
+            slots = sorted(set(r.new.material_index.tolist())) or [0]
+            for slot in slots:
                 source = obj.data.materials[slot] if slot < len(obj.data.materials) else None
                 target.data.materials.append(ink_material(source))
+            index = {slot: k for k, slot in enumerate(slots)}
             for spline, slot in zip(target.data.splines, r.new.material_index.tolist()):
-                spline.material_index = sorted(set(r.new.material_index.tolist())).index(slot)
+                spline.material_index = index[slot]
             if options.hide_source and options.scope != "SELECTED":
                 r.layer.hide = True
         return target
+    sources = {r.layer.name: r.layer for r in results}
     if options.output == "REPLACE":
-        filled = {}
+        for name, below in write_fills(obj.data, results).items():  # under the source
+            place_above(obj.data, below, sources[name])
+            if below.parent_group is None and sources[name].parent_group is None:
+                obj.data.layers.move(below, "DOWN")  # now just under the source
         for r in results:
-            if r.fills is not None and r.fills.knots:  # a layer of fills under the source
-                if r.layer.name not in filled:
-                    below = filled[r.layer.name] = new_layer_like(obj.data, r.layer, " fills")
-                    place_above(obj.data, below, r.layer)
-                    if below.parent_group is None and r.layer.parent_group is None:
-                        obj.data.layers.move(below, "DOWN")  # now just under the source
-                write_frames(filled[r.layer.name], r.frames, r.fills)
             if not r.chosen:  # an empty keyframe: nothing to replace
                 continue
             drawing = r.frames[0].drawing
@@ -439,13 +454,10 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             coll.objects.link(target)
     else:
         target, gp = obj, obj.data
-    made, filled = {}, {}
+    filled = write_fills(gp, results)
+    made = {}
     for r in results:
         layer = r.layer
-        if r.fills is not None and r.fills.knots:
-            if layer.name not in filled:
-                filled[layer.name] = new_layer_like(gp, layer, " fills")
-            write_frames(filled[layer.name], r.frames, r.fills)
         if layer.name not in made:
             dest = new_layer_like(gp, layer, " simplified")
             if target is obj:
@@ -456,7 +468,6 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             if options.hide_source and options.scope != "SELECTED":
                 layer.hide = True
         write_frames(made[layer.name], r.frames, r.new)
-    sources = {r.layer.name: r.layer for r in results}
     for name, below in filled.items():  # fills just under their lines
         if target is obj:  # the lines are just above the source: the fills go between
             place_above(gp, below, sources[name])
@@ -475,6 +486,18 @@ def new_layer_like(gp, layer, suffix: str):
     if layer.parent is not None:
         match_parent(new, layer)
     return new
+
+
+def write_fills(gp, results: list[DrawingResult]) -> dict:
+    """A layer "<name> fills" for each source layer with fills, each drawing's fills at
+    its keyframes; by source layer name. The caller places them."""
+    filled = {}
+    for r in results:
+        if r.fills is not None and r.fills.knots:
+            if r.layer.name not in filled:
+                filled[r.layer.name] = new_layer_like(gp, r.layer, " fills")
+            write_frames(filled[r.layer.name], r.frames, r.fills)
+    return filled
 
 
 def write_frames(dest, frames: list, new: NewStrokes) -> None:
