@@ -43,7 +43,11 @@ __all__ = ["main", "short_name", "summary"]
 
 
 def _setup(root: str) -> None:
+    """Import ``core`` from ``root`` before the scripts, which put this checkout first."""
     sys.path[:0] = [root, str(HERE)]
+    import core  # noqa: F401 - the scripts' own path entry would win once they are imported
+
+    assert Path(core.__file__).resolve().parent.parent == Path(root).resolve(), core.__file__
 
 
 def score_one(args: tuple[str, str, str | None]) -> tuple[str, dict]:
