@@ -370,6 +370,45 @@ def test_at_a_junction_as_many_lines_as_can_continue_do():
     assert pairs == {(0, 156), (28, 192)}
 
 
+def test_the_two_sides_of_a_hairpin_left_unmerged_join_again_as_one_stroke():
+    """Two edges leaving a junction 10 degrees apart (a tip the bi-edge pass left), and a
+    third crossing it: the tip's sides are one stroke, the third another."""
+    def leaving(degrees: float) -> Edge:
+        a = np.radians(degrees)
+        return Edge(np.array([[0.0, 0.0], [0.3 * np.cos(a), 0.3 * np.sin(a)]]))
+
+    graph = build_graph([leaving(d) for d in (0, 10, 95)], 0.001)
+    joined = join_edges(graph, SimplifyParams())
+    assert sorted(len(e.points) for e in joined) == [2, 3]
+    assert len(join_edges(build_graph([leaving(d) for d in (0, 40, 95)], 0.001),
+                          SimplifyParams())) == 3  # 40 degrees apart: two lines, not a tip
+
+
+def test_free_ends_closer_than_the_bundle_width_that_continue_join_across_the_gap():
+    t = np.linspace(0, 0.4, 20)[:, None]
+    left = Edge(np.hstack([t, 0.02 * t]))
+    right = Edge(np.hstack([t + 0.41, 0.02 * (t + 0.41)]))  # a gap of 0.01 < d_eps 0.012
+    joined = join_edges(build_graph([left, right], 0.001), SimplifyParams())
+    assert len(joined) == 1 and len(joined[0].points) == 40  # both end points kept
+    askew = Edge(np.hstack([t + 0.41, 0.02 * 0.41 + t]))  # 44 degrees off: no join
+    assert len(join_edges(build_graph([left, askew], 0.001), SimplifyParams())) == 2
+    far = Edge(np.hstack([t + 0.43, 0.02 * (t + 0.43)]))  # a gap of 0.03: no join
+    assert len(join_edges(build_graph([left, far], 0.001), SimplifyParams())) == 2
+
+
+def test_a_loop_drawn_as_overlapping_pieces_is_one_closed_stroke():
+    """Five arcs of a circle, each overlapping the next by a few degrees, with a little
+    wobble: one closed stroke."""
+    rng = np.random.default_rng(3)
+    pieces = []
+    for k in range(5):
+        a = np.radians(np.linspace(72 * k - 6, 72 * (k + 1) + 6, 40))
+        r = 1.0 + rng.normal(0, 0.002, len(a))
+        pieces.append(Stroke(np.column_stack([r * np.cos(a), r * np.sin(a)])))
+    strokes = simplify(Sketch(pieces)).strokes
+    assert len(strokes) == 1 and strokes[0].closed
+
+
 def test_a_square_inside_a_square_is_a_hole_of_its_region():
     t = np.linspace(0, 1, 40)[:, None]
 
