@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml
 	@command -v $(PYTHON) >/dev/null || { echo "Python 3.11 is needed (set PYTHON=...)"; exit 1; }
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[dev]" "bpy==$(BPY)"
+	$(PY) -m pip install --quiet -e ".[dev,cluster]" "bpy==$(BPY)"
 	touch $(STAMP)
 
 $(STAMP45): pyproject.toml

@@ -24,10 +24,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .params import SimplifyParams
+from .replay_cache import sketch_digest
 from .simplify import simplify
 from .sketch import Region, Sketch, SketchError, Stroke
 
-__all__ = ["Simplified", "default_jobs", "simplified", "simplify_all"]
+__all__ = ["Simplified", "default_jobs", "simplified", "simplify_all", "unique_sketches"]
 
 
 @dataclass(frozen=True)
@@ -100,29 +101,68 @@ def default_jobs() -> int:
                else (os.cpu_count() or 1))
 
 
+def unique_sketches(sketches: list[Sketch]) -> tuple[list[int], list[int]]:
+    """Identical sketches, found by content (:func:`core.replay_cache.sketch_digest`): the
+    index of the first of each distinct sketch, and for every sketch the position of its
+    own in that list.
+
+    >>> from core import Sketch, Stroke
+    >>> a, b = Sketch([Stroke([[0, 0], [1, 0]])]), Sketch([Stroke([[0, 0], [0, 1]])])
+    >>> unique_sketches([a, b, Sketch([Stroke([[0, 0], [1, 0]])]), a])
+    ([0, 1], [0, 1, 0, 0])
+    """
+    first: dict[str, int] = {}  # digest -> position among the distinct
+    where, firsts = [], []
+    for k, sketch in enumerate(sketches):
+        digest = sketch_digest(sketch)
+        if digest not in first:
+            first[digest] = len(firsts)
+            firsts.append(k)
+        where.append(first[digest])
+    return firsts, where
+
+
 def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
-                 progress: Callable[[int, int], None] | None = None, regions: bool = False
+                 progress: Callable[[int, int, int], None] | None = None, regions: bool = False,
+                 scheduler: str | None = None, connect_timeout: float = 20.0
                  ) -> list[Simplified | SketchError]:
     """What each sketch simplifies into, in order (with its fill regions if ``regions``);
     a sketch that cannot be simplified gives its :class:`SketchError` in its place.
-    ``jobs`` > 1 uses that many processes."""
+
+    Identical sketches are simplified once, however they run: ``jobs`` > 1 uses that many
+    local processes; ``scheduler`` (``tcp://host:port``) a Dask cluster instead
+    (:mod:`core.cluster`), waiting up to ``connect_timeout`` seconds for it.
+    ``progress(done, total, k)`` is called as each distinct sketch finishes, ``k`` its
+    first index in ``sketches``.
+    """
     if jobs < 1:
         raise SketchError(f"jobs must be at least 1, got {jobs}")
-    work = [(s, params, regions) for s in sketches]
-    out: list[Simplified | SketchError] = []
-    if jobs == 1 or len(work) < 2:
-        for k, item in enumerate(work):
-            out.append(_simplify_one(item))
-            if progress is not None:
-                progress(k + 1, len(work))
-        return out
-    context = multiprocessing.get_context("spawn")
-    initializer, initargs = _worker_setup()
-    with _main_script_hidden(), ProcessPoolExecutor(
-            max_workers=min(jobs, len(work)), mp_context=context, initializer=initializer,
-            initargs=initargs) as pool:
-        for k, result in enumerate(pool.map(_simplify_one, work)):
-            out.append(result)
-            if progress is not None:
-                progress(k + 1, len(work))
-    return out
+    firsts, where = unique_sketches(sketches)
+    done: dict[int, Simplified | SketchError] = {}  # by index into firsts
+
+    def finished(u: int, out: Simplified | SketchError) -> None:
+        done[u] = out
+        if progress is not None:
+            progress(len(done), len(firsts), firsts[u])
+
+    if scheduler is not None:
+        from .cluster import ClusterRun
+
+        with ClusterRun(scheduler, params, regions, connect_timeout) as run:
+            keys = [run.submit(sketches[k]) for k in firsts]
+            position = {key: u for u, key in enumerate(keys)}
+            for key in run.as_completed(keys):
+                finished(position[key], run.result(key))
+    elif jobs == 1 or len(firsts) < 2:
+        for u, k in enumerate(firsts):
+            finished(u, _simplify_one((sketches[k], params, regions)))
+    else:
+        context = multiprocessing.get_context("spawn")
+        initializer, initargs = _worker_setup()
+        work = [(sketches[k], params, regions) for k in firsts]
+        with _main_script_hidden(), ProcessPoolExecutor(
+                max_workers=min(jobs, len(work)), mp_context=context, initializer=initializer,
+                initargs=initargs) as pool:
+            for u, result in enumerate(pool.map(_simplify_one, work)):
+                finished(u, result)
+    return [done[u] for u in where]

@@ -292,7 +292,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                 progress((k + 1) / len(prepared))
     else:
         outputs = simplify_all([p.sketch for p in prepared], params, jobs,
-                               None if progress is None else lambda done, total:
+                               None if progress is None else lambda done, total, _k:
                                progress(done / total), regions=fills)
     if options.stable and options.scope in ("ALL", "RANGE"):
         outputs = held_across_frames(prepared, outputs)

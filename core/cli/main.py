@@ -2,7 +2,8 @@
 
     python -m core [simplify] INPUT -o OUTPUT.svg [--epsilon E] [--alpha A] [--stats S.json]
     python -m core inspect SKETCH [SKETCH ...] [--json]
-    python -m core batch IN_DIR OUT_DIR [--jobs N] [--epsilon E] [--scap] [--summary S.json]
+    python -m core batch IN_DIR OUT_DIR [--jobs N | --scheduler tcp://HOST:PORT] [--resume]
+                         [--epsilon E] [--scap] [--summary S.json]
 
 INPUT is .svg or .scap; OUTPUT is .svg (one <path> per output stroke) or .scap, in the
 input's coordinates. ``simplify`` is the subcommand taken when none is named. Defaults are
@@ -61,13 +62,20 @@ def parser() -> argparse.ArgumentParser:
     many.add_argument("out_dir", type=Path, help="folder for the results (made if missing)")
     many.add_argument("--jobs", type=int, default=default_jobs(),
                       help="worker processes (default: every core)")
+    many.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                      help="run on this Dask cluster instead (pip install 'sketchsimp[cluster]')")
+    many.add_argument("--connect-timeout", type=float, default=20.0, metavar="SECONDS",
+                      help="how long to wait for the scheduler (default %(default)s)")
+    many.add_argument("--resume", action="store_true",
+                      help="skip the sketches whose output is already there")
     many.add_argument("--epsilon", type=float, default=d.epsilon,
                       help="how far to simplify (default %(default)s)")
     many.add_argument("--scap", action="store_true", help="write .scap instead of .svg")
     many.add_argument("--summary", type=Path, help="write counts and seconds to this JSON file")
     many.set_defaults(run=lambda args: batch(
         args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon), args.jobs,
-        ".scap" if args.scap else ".svg", args.summary))
+        ".scap" if args.scap else ".svg", args.summary, args.scheduler, args.resume,
+        args.connect_timeout))
     return top
 
 
