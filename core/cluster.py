@@ -25,8 +25,9 @@ only when a scheduler is given; the Blender extension never ships it.
 
 from __future__ import annotations
 
+import builtins
 import hashlib
-import sys
+import types
 from collections.abc import Iterator
 from dataclasses import fields
 
@@ -52,6 +53,17 @@ def task_key(sketch: Sketch, params: SimplifyParams, regions: bool) -> str:
     h.update(sketch_digest(sketch).encode())
     h.update(repr((sorted(params.as_dict().items()), regions)).encode())
     return f"sketchsimp-{h.hexdigest()}"
+
+
+def _by_value(function):
+    """A copy of ``function`` that belongs to no module: pickle cannot name it, so Dask
+    (which tries pickle, then cloudpickle) sends its code. Pickled by reference it would be
+    ``bl_ext.<repo>.sketchsimp.core.remote...``, a name only Blender has.
+    (``cloudpickle.register_pickle_by_value`` is not enough: Dask pickles the whole task
+    with pickle first, which names the function.)"""
+    return types.FunctionType(function.__code__, {"__builtins__": builtins,
+                                                  "__name__": "sketchsimp_task"},
+                              function.__name__, function.__defaults__)
 
 
 def _from_plain(out: dict):
@@ -80,13 +92,13 @@ class ClusterRun:
     def __init__(self, address: str, params: SimplifyParams, regions: bool = False,
                  timeout: float = 20.0) -> None:
         try:
-            import cloudpickle
             from distributed import Client
         except ImportError:
             raise SketchError("running on a cluster needs Dask: pip install "
                               "'sketchsimp[cluster]' (dask[distributed])") from None
+        self.task = remote.simplify_payload
         if remote.__name__ != "core.remote":  # core is a subpackage here (in Blender)
-            cloudpickle.register_pickle_by_value(sys.modules[remote.__name__])
+            self.task = _by_value(remote.simplify_by_name)
         self.params, self.regions = params, regions
         try:
             self.client = Client(address, timeout=timeout)
@@ -99,7 +111,7 @@ class ClusterRun:
         key = task_key(sketch, self.params, self.regions)
         if key not in self._futures:
             self._futures[key] = self.client.submit(
-                remote.simplify_payload, payload(sketch, self.params, self.regions), key=key)
+                self.task, payload(sketch, self.params, self.regions), key=key)
         return key
 
     def result(self, key: str):

@@ -1,21 +1,27 @@
 """What a Dask worker runs: one sketch, given and returned as plain data.
 
 A worker needs the project's Python package (``core``, installed or on its path) and
-nothing of Blender. The function here imports ``core`` by that absolute name when it runs,
-and has no other globals, so that a client holding ``core`` under another name (inside
-Blender it is a subpackage of the extension) can send it by value
-(``cloudpickle.register_pickle_by_value``); what it takes and gives back is dicts of numpy
+nothing of Blender. A client holding ``core`` under another name (inside Blender it is a
+subpackage of the extension) sends :func:`simplify_by_name` by value: it has no globals and
+imports the worker's own ``core`` by that absolute name. What travels is dicts of numpy
 arrays, strings and numbers, which unpickle anywhere. Invariant: the strokes and regions
 that come back are exactly those of ``core.simplified(core.simplify(sketch, params))``.
 """
 
 from __future__ import annotations
 
-__all__ = ["simplify_payload"]
+__all__ = ["simplify_by_name", "simplify_payload"]
 
 #: the fields of a stroke that travel (``core.sketch.Stroke``'s)
 STROKE_FIELDS = ("points", "width", "pressure", "style", "source_id", "cluster", "bezier",
                  "closed", "sources")
+
+
+def simplify_by_name(payload: dict) -> dict:
+    """:func:`simplify_payload` of the ``core`` package installed where this runs."""
+    from core.remote import simplify_payload
+
+    return simplify_payload(payload)
 
 
 def simplify_payload(payload: dict) -> dict:

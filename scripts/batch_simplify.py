@@ -8,7 +8,11 @@ Options: --objects NAME[,NAME] (default every Grease Pencil object), --layers vi
 one input, a folder for several; default <name>_simplified.blend beside each input),
 --in-place (overwrite the input after copying it to <name>.blend1), --jobs N, --summary
 S.json, --fill-regions (the closed regions as fills too, on a layer under the lines),
---no-stable (each keyframe simplified on its own, not held to the one before).
+--no-stable (each keyframe simplified on its own, not held to the one before),
+--scheduler tcp://HOST:PORT (simplify on a Dask cluster: every file's drawings are read and
+sent first, so that all files are in flight at once, then each file is opened again and
+written as its results come; the workers need the project's Python package, not Blender),
+--resume (skip the inputs whose output file exists; Blender saves whole files).
 The result of each layer goes to a new layer above it, as the operator does.
 Exits 2 with one line on a missing file, a file without Grease Pencil or a bad frame range.
 """
@@ -78,6 +82,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all "
                    "cores when there are several drawings)")
     p.add_argument("--summary", type=Path, help="write a JSON summary here")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="simplify on this Dask cluster (pip install 'sketchsimp[cluster]')")
+    p.add_argument("--resume", action="store_true",
+                   help="skip the .blend files whose output is already there")
     return p
 
 
@@ -92,7 +100,8 @@ def output_path(blend: Path, args, several: bool) -> Path:
     return args.output
 
 
-def process(blend: Path | None, args, params, run, frames_mode, frame_range) -> dict:
+def open_objects(blend: Path | None, args) -> list:
+    """Open ``blend`` (None: the file already open) and its Grease Pencil objects to run."""
     if blend is not None:
         bpy.ops.wm.open_mainfile(filepath=str(blend))
     wanted = {n for n in args.objects.split(",") if n}
@@ -102,16 +111,39 @@ def process(blend: Path | None, args, params, run, frames_mode, frame_range) -> 
     if not objects:
         raise UsageError(f"{name}: no Grease Pencil object"
                          + (f" named {', '.join(sorted(wanted))}" if wanted else ""))
+    return objects
+
+
+def run_options(args, frames_mode: str) -> SimpleNamespace:
+    return SimpleNamespace(scope="CURRENT" if frames_mode == "current" else "ALL",
+                           layers=args.layers.upper(), output="LAYER", hide_source=True,
+                           as_curve=False, fill_regions=args.fill_regions, stable=args.stable)
+
+
+def send_drawings(blend: Path | None, args, run, cluster, frames_mode, frame_range) -> int:
+    """Read every drawing of ``blend`` and send it to the cluster; how many were sent."""
+    sent = 0
+    for ob in open_objects(blend, args):
+        gathered = run.gather_drawings(ob, run_options(args, frames_mode),
+                                       bpy.context.scene.frame_current, run.RunReport(),
+                                       frame_range)
+        for p in gathered.prepared:
+            cluster.submit(p.sketch)
+            sent += 1
+    return sent
+
+
+def process(blend: Path | None, args, params, run, frames_mode, frame_range,
+            engine=None) -> dict:
+    objects = open_objects(blend, args)
     scene = bpy.context.scene
     row = {"file": str(blend), "drawings": 0, "strokes_in": 0, "strokes_out": 0,
            "skipped": [], "objects": {}}
     for ob in objects:
-        options = SimpleNamespace(scope="CURRENT" if frames_mode == "current" else "ALL",
-                                  layers=args.layers.upper(), output="LAYER",
-                                  hide_source=True, as_curve=False,
-                                  fill_regions=args.fill_regions, stable=args.stable)
+        options = run_options(args, frames_mode)
         report, results = run.simplify_object(ob, options, params, scene.frame_current,
-                                              jobs=args.jobs, frame_range=frame_range)
+                                              jobs=args.jobs, frame_range=frame_range,
+                                              engine=engine)
         for r in results:
             frames = ",".join(str(f.frame_number) for f in r.frames)
             print(f"  {ob.name} / {r.layer.name} frame {frames}: {len(r.chosen)} -> "
@@ -135,6 +167,7 @@ def main() -> int:
     from sketchsimp.sketchsimp_addon import run
 
     t0 = time.perf_counter()
+    cluster = None
     try:
         frames_mode, frame_range = parse_frames(args.frames)
         given = {k: getattr(args, k) for k in ("epsilon", "alpha", "samples")}
@@ -147,12 +180,32 @@ def main() -> int:
         for blend in blends:
             if blend is not None and not blend.is_file():
                 raise UsageError(f"{blend}: no such file")
+        if args.resume and args.in_place:
+            raise UsageError("--resume cannot tell finished files when writing in place")
+        several = len(blends) > 1  # outputs named as for every file given
+        if args.resume:
+            done = [b for b in blends if b is not None and output_path(b, args, several).is_file()]
+            for b in done:
+                print(f"{b}: done before, skipped", flush=True)
+            blends = [b for b in blends if b not in done]
+        engine = None
+        if args.scheduler:
+            from sketchsimp.core.cluster import ClusterRun
+
+            cluster = ClusterRun(args.scheduler, params, regions=args.fill_regions)
+            for blend in blends:  # every file in flight before the first is written
+                sent = send_drawings(blend, args, run, cluster, frames_mode, frame_range)
+                print(f"{blend or bpy.data.filepath}: {sent} drawing(s) sent to "
+                      f"{args.scheduler}", flush=True)
+
+            def engine(sketches, regions):
+                return [cluster.result(cluster.submit(s)) for s in sketches]
         rows = []
         for blend in blends:
             print(f"{blend or bpy.data.filepath}:", flush=True)
-            row = process(blend, args, params, run, frames_mode, frame_range)
+            row = process(blend, args, params, run, frames_mode, frame_range, engine)
             source = Path(bpy.data.filepath)
-            target = output_path(source, args, len(blends) > 1)
+            target = output_path(source, args, several)
             if args.in_place:
                 shutil.copy2(source, source.with_suffix(".blend1"))
             bpy.ops.wm.save_as_mainfile(filepath=str(target), copy=not args.in_place)
@@ -161,6 +214,9 @@ def main() -> int:
     except (UsageError, SketchError) as exc:
         print(f"batch_simplify: {exc}", file=sys.stderr)
         return 2
+    finally:
+        if cluster is not None:
+            cluster.close()
     seconds = time.perf_counter() - t0
     total = {k: sum(r[k] for r in rows) for k in ("drawings", "strokes_in", "strokes_out")}
     print(f"{len(rows)} file(s), {total['drawings']} drawing(s): {total['strokes_in']} strokes "

@@ -218,19 +218,21 @@ def collect_drawings(obj, options, frame_number: int, report: RunReport,
     return list(drawings.values())
 
 
-def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
-                    progress=None, jobs: int | None = None,
-                    frame_range: tuple[int, int] | None = None
-                    ) -> tuple[RunReport, list[DrawingResult]]:
-    """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
+@dataclass
+class Gathered:
+    """The drawings of one object read for a run: what to simplify, the keyframes drawn
+    empty (kept empty in the output when it has others), and how many strokes of hidden or
+    locked materials were left alone."""
 
-    Drawings are read here, simplified by the core (in ``jobs`` processes; by default a
-    pool of all cores from :data:`POOL_FROM` drawings on; in this process through the
-    :data:`REPLAY` cache, so that a new epsilon for the same drawing is a replay), and
-    turned into new strokes here. ``progress`` is called with the fraction of drawings done.
-    """
-    report = RunReport()
-    t0 = time.perf_counter()
+    prepared: list[Prepared]
+    empty: list[tuple]
+    held: int
+
+
+def gather_drawings(obj, options, frame_number: int, report: RunReport,
+                    frame_range: tuple[int, int] | None = None) -> Gathered:
+    """Read the chosen drawings of a Grease Pencil object into sketches; what cannot be
+    simplified goes to ``report``."""
     prepared = []
     empty = []  # keyframes drawn empty: kept empty in the output when it has others
     untouchable = untouchable_materials(obj)
@@ -278,10 +280,31 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                                 "flattened onto it")
         prepared.append(Prepared(layer, frames, data, chosen, plane,
                                  to_sketch(data, chosen, plane)))
+    return Gathered(prepared, empty, held)
+
+
+def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
+                    progress=None, jobs: int | None = None,
+                    frame_range: tuple[int, int] | None = None, engine=None
+                    ) -> tuple[RunReport, list[DrawingResult]]:
+    """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
+
+    Drawings are read here (:func:`gather_drawings`), simplified by the core (in ``jobs``
+    processes; by default a pool of all cores from :data:`POOL_FROM` drawings on; in this
+    process through the :data:`REPLAY` cache, so that a new epsilon for the same drawing is
+    a replay; or by ``engine(sketches, regions)``, e.g. a Dask cluster, when given), and
+    turned into new strokes here. ``progress`` is called with the fraction of drawings done.
+    """
+    report = RunReport()
+    t0 = time.perf_counter()
+    gathered = gather_drawings(obj, options, frame_number, report, frame_range)
+    prepared, empty, held = gathered.prepared, gathered.empty, gathered.held
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
     fills = options.fill_regions and not options.as_curve
-    if jobs == 1:  # here, through the replay cache: the redo panel's slider replays
+    if engine is not None:
+        outputs = engine([p.sketch for p in prepared], fills)
+    elif jobs == 1:  # here, through the replay cache: the redo panel's slider replays
         outputs = []
         for k, item in enumerate(prepared):
             try:

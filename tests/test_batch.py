@@ -10,6 +10,7 @@ import sys
 import bpy
 import pytest
 from blender_scene import clear_scene, fill_drawing, make_object, sample_points
+from dask_cluster import dask_cluster  # noqa: F401 - a fixture
 from helpers import ROOT, SAMPLES
 
 SCRIPT = ROOT / "scripts" / "batch_simplify.py"
@@ -101,6 +102,29 @@ def test_several_files_into_a_folder(shot, tmp_path):
     assert done.returncode == 0, done.stderr
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["other.blend", "shot.blend"]
     assert "2 file(s)" in done.stdout
+
+
+def test_several_files_on_a_dask_cluster_match_the_local_run_and_resume_skips_done_files(
+        shot, tmp_path, dask_cluster):
+    """The client reads every file's drawings with bpy and sends them first; the workers
+    (plain Python with the project's package, no Blender) simplify; the files are written
+    as on one machine."""
+    address, _ = dask_cluster
+    other = tmp_path / "other.blend"
+    other.write_bytes(shot.read_bytes())
+    local = run(shot, other, "--output", tmp_path / "local", "--jobs", "1")
+    remote = run(shot, other, "--output", tmp_path / "remote", "--scheduler", address)
+    assert local.returncode == remote.returncode == 0, remote.stdout + remote.stderr
+    assert remote.stdout.count("drawing(s) sent to") == 2  # both files in flight at once
+    for name in ("shot.blend", "other.blend"):
+        assert inspect(tmp_path / "remote" / name) == inspect(tmp_path / "local" / name)
+    (tmp_path / "remote" / "other.blend").unlink()
+    again = run(shot, other, "--output", tmp_path / "remote", "--scheduler", address,
+                "--resume")
+    assert again.returncode == 0, again.stderr
+    assert "shot.blend: done before, skipped" in again.stdout and "1 file(s)" in again.stdout
+    assert inspect(tmp_path / "remote" / "other.blend") == inspect(tmp_path / "local" /
+                                                                   "other.blend")
 
 
 def test_errors_exit_2_with_one_line(shot, tmp_path):

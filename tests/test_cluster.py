@@ -8,51 +8,17 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 from bench_simplify import synthetic
+from dask_cluster import ENV, dask_cluster  # noqa: F401 - a fixture
 from helpers import ROOT
 
 from core import SimplifyParams, Sketch, Stroke, simplify_all, write_sketch
 
-distributed = pytest.importorskip("distributed")
-
-DASK = Path(sys.executable).parent / "dask"
-ENV = {**os.environ, "PYTHONPATH": str(ROOT)}  # workers need core, nothing of Blender
-
-
-def _start(args: list[str], log: Path) -> subprocess.Popen:
-    return subprocess.Popen([str(DASK), *args], stdout=log.open("w"), stderr=subprocess.STDOUT,
-                            env=ENV, cwd=ROOT, start_new_session=True)
-
-
-@pytest.fixture
-def cluster(tmp_path):
-    """(scheduler address, the two worker processes)."""
-    file = tmp_path / "scheduler.json"
-    procs = [_start(["scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                     "--scheduler-file", str(file)], tmp_path / "scheduler.log")]
-    try:
-        for _ in range(300):
-            if file.exists() and file.stat().st_size:
-                break
-            time.sleep(0.1)
-        address = json.loads(file.read_text())["address"]
-        workers = [_start(["worker", "--scheduler-file", str(file), "--nthreads", "1",
-                           "--no-nanny", "--no-dashboard", "--name", f"w{k}"],
-                          tmp_path / f"worker{k}.log") for k in range(2)]
-        procs += workers
-        with distributed.Client(address, timeout=30) as client:
-            client.wait_for_workers(2, timeout=60)
-        yield address, workers
-    finally:
-        for p in procs:  # nothing of theirs to keep
-            if p.poll() is None:
-                os.killpg(p.pid, signal.SIGKILL)
-            p.wait(timeout=30)
+pytest.importorskip("distributed")
 
 
 @pytest.fixture
@@ -75,8 +41,8 @@ def _batch(*args: str) -> subprocess.Popen:
 
 
 def test_a_batch_on_a_cluster_survives_a_worker_killed_mid_run_and_matches_the_local_run(
-        cluster, sketches, tmp_path):
-    address, workers = cluster
+        dask_cluster, sketches, tmp_path):
+    address, workers = dask_cluster
     local = subprocess.run([sys.executable, "-m", "core", "batch", str(sketches),
                             str(tmp_path / "local"), "--jobs", "1"], cwd=ROOT, env=ENV,
                            capture_output=True, text=True, timeout=300)
@@ -101,9 +67,9 @@ def test_a_batch_on_a_cluster_survives_a_worker_killed_mid_run_and_matches_the_l
     assert local.returncode == 1 and "failed dots.scap" in local.stdout
 
 
-def test_resume_after_an_interrupted_run_redoes_only_what_is_missing(cluster, sketches,
+def test_resume_after_an_interrupted_run_redoes_only_what_is_missing(dask_cluster, sketches,
                                                                     tmp_path):
-    address, _ = cluster
+    address, _ = dask_cluster
     out = tmp_path / "out"
     first = subprocess.run([sys.executable, "-m", "core", "batch", str(sketches), str(out),
                             "--scheduler", address], cwd=ROOT, env=ENV, capture_output=True,
