@@ -21,8 +21,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: what the extension is made of; everything else in the repository stays out
 CONTENTS = ["blender_manifest.toml", "__init__.py", "core", "sketchsimp_addon", "wheels"]
-#: left out of those: the command line is an application of core, not part of the add-on
-LEFT_OUT = ["__pycache__", "*.pyc", "cli", "__main__.py"]
+#: left out of those: the command line and the cluster engine are applications of core, not
+#: part of the add-on (Dask is never shipped in the extension)
+LEFT_OUT = ["__pycache__", "*.pyc", "cli", "__main__.py", "cluster.py", "remote.py"]
 
 
 def blender_ext_cli() -> Path:
