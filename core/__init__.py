@@ -21,7 +21,7 @@ from .complex.base_complex import BaseComplex, BaseComplexError, Patch, build_ba
 from .io.cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
 from .io.files import read_sketch, write_sketch
 from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
-from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier
+from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier, subdivide_bezier
 from .parallel import Simplified, default_jobs, simplified, simplify_all
 from .params import PAPER_ALPHA, SimplifyParams
 from .replay_cache import ReplayCache
@@ -35,5 +35,5 @@ __all__ = [
     "fd_distance", "fourier_descriptor", "fourier_descriptors", "held_to", "Normalisation",
     "normalised_strokes", "Patch", "read_sketch", "Region", "ReplayCache", "sample_bezier",
     "Simplified", "simplified", "simplify", "simplify_all", "SimplifyParams", "SimplifyResult",
-    "Sketch", "SketchError", "Stroke", "write_sketch",
+    "Sketch", "SketchError", "Stroke", "subdivide_bezier", "write_sketch",
 ]

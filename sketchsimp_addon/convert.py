@@ -4,7 +4,8 @@ Strokes live in 3D layer space; the core works in 2D. Each drawing is projected 
 own best-fit plane (the two main axes of its points: the X-Z plane for a front-view
 drawing) and the result is lifted back onto the same plane, so no transform is involved.
 Width comes from the stroke radius; material, opacity and vertex colour of an output
-stroke come from the input strokes it was made from.
+stroke come from the input strokes it was made from, per knot from the nearest of their
+points (colour only from those of the stroke's main colour).
 """
 
 from __future__ import annotations
@@ -13,14 +14,14 @@ from collections import Counter
 from dataclasses import dataclass, replace
 
 import numpy as np
+import shapely
 
-from ..core import SAMPLES_PER_SEGMENT, Region, Sketch, SketchError, Stroke
+from ..core import SAMPLES_PER_SEGMENT, Region, Sketch, SketchError, Stroke, subdivide_bezier
 from .drawing import DrawingData, NewStrokes
 
 __all__ = [
-    "FAR_OUT", "FILL_RADIUS", "Plane", "drawing_from_polylines", "drawing_plane", "far_out",
-    "fill_strokes", "stroke_moved", "to_new_strokes",
-    "to_sketch",
+    "FAR_OUT", "FILL_RADIUS", "KNOTS_PER_SEGMENT", "Plane", "drawing_from_polylines",
+    "drawing_plane", "far_out", "fill_strokes", "stroke_moved", "to_new_strokes", "to_sketch",
 ]
 
 
@@ -147,28 +148,57 @@ def _handles(bezier: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray, 
             np.concatenate([right, 2 * knots[-1:] - left[-1:]]))
 
 
+#: each fitted cubic is written as this many (the same shape, subdivided exactly), so that
+#: radius, opacity and colour, given per knot, follow the ink along the stroke: with one
+#: knot per cubic an output stroke had about 4 radii, and its tapered ends were lost
+KNOTS_PER_SEGMENT = 3
+
+
+def _dominant_colour(colours: np.ndarray) -> np.ndarray:
+    """Which points carry the colour most of the ink has (colours compared to 1/256), so
+    that differently coloured strokes in one bundle are never mixed."""
+    keys = np.round(colours * 255).astype(np.int32)
+    _, label, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    return label.ravel() == np.argmax(counts)
+
+
+def _nearest(points: np.ndarray, ink: np.ndarray) -> np.ndarray:
+    """Index into ``ink`` of the nearest ink point of each point (a tree: a long stroke
+    of a dense drawing has tens of thousands of source points)."""
+    i, k = shapely.STRtree(shapely.points(ink)).query_nearest(shapely.points(points),
+                                                              all_matches=False)
+    out = np.empty(len(points), np.intp)
+    out[i] = k
+    return out
+
+
 def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane) -> NewStrokes:
-    """Output strokes as Bezier knots and handles on the plane, with attributes."""
+    """Output strokes as Bezier knots and handles on the plane, with attributes per knot:
+    the radius the core carried over from the ink (its profile, ends tapered as drawn),
+    opacity from the nearest ink point of the stroke's sources, and vertex colour from the
+    nearest of those that have the stroke's main colour."""
     slices = data.stroke_slices()
+    ink = plane.to_2d(data.positions)
+    step = SAMPLES_PER_SEGMENT // KNOTS_PER_SEGMENT
     knots, lefts, rights, radii, opacity, colours, materials, cyclic = ([] for _ in range(8))
     for s in result_strokes:
-        k, hl, hr = _handles(s.bezier, s.closed)
+        k, hl, hr = _handles(subdivide_bezier(s.bezier, KNOTS_PER_SEGMENT), s.closed)
         knots.append(plane.to_3d(k))
         lefts.append(plane.to_3d(hl))
         rights.append(plane.to_3d(hr))
-        at_knots = np.arange(len(k)) * SAMPLES_PER_SEGMENT
+        at_knots = np.minimum(np.arange(len(k)) * step, len(s.points) - 1)
         width = s.width if s.width is not None else np.full(len(s.points), 0.01)
         # a radius below 0 or an opacity outside 0..1 in the ink (a broken import, a script)
         # is not copied on: Blender draws such strokes wrongly or not at all
-        radii.append(np.maximum(width[np.minimum(at_knots, len(width) - 1)], 0.0)
-                     .astype(np.float32))
+        radii.append(np.maximum(width[at_knots], 0.0).astype(np.float32))
         src = list(s.sources) or [0]
         src_points = np.concatenate([np.arange(slices[i].start, slices[i].stop) for i in src])
-        opacity.append(np.full(len(k), np.clip(data.opacity[src_points].mean(), 0.0, 1.0),
-                               np.float32))
+        src_points = src_points[np.isfinite(ink[src_points]).all(axis=1)]
+        near = src_points[_nearest(k, ink[src_points])]
+        opacity.append(np.clip(data.opacity[near], 0.0, 1.0).astype(np.float32))
         if data.vertex_color is not None:
-            colours.append(np.repeat(data.vertex_color[src_points].mean(axis=0)[None],
-                                     len(k), axis=0).astype(np.float32))
+            main = src_points[_dominant_colour(data.vertex_color[src_points])]
+            colours.append(data.vertex_color[main[_nearest(k, ink[main])]].astype(np.float32))
         material = Counter(int(data.material_index[i]) for i in src).most_common(1)[0][0]
         materials.append(int(s.style) if s.style is not None else material)
         cyclic.append(bool(s.closed))

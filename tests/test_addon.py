@@ -631,6 +631,53 @@ def test_vertex_colour_opacity_and_material_are_carried_over():
     assert (material == 1).all()
 
 
+def point_values(drawing, name: str, width: int = 1) -> list[np.ndarray]:
+    """A point attribute of a drawing, split by stroke."""
+    attrs = drawing.attributes
+    values = np.empty(attrs.domain_size("POINT") * width, np.float32)
+    attrs[name].data.foreach_get("color" if width == 4 else "value", values)
+    offsets = np.empty(attrs.domain_size("CURVE") + 1, np.int32)
+    drawing.curve_offsets.foreach_get("value", offsets)
+    return np.split(values.reshape(-1, width) if width > 1 else values, offsets[1:-1])
+
+
+def test_taper_opacity_and_colour_follow_the_ink_along_each_stroke():
+    """A bundle of four long strokes, tapered (radius 0.002 at the ends, 0.02 in the
+    middle), fading (opacity 0.2 to 1.0 along), two red and two blue: the output stroke is
+    tapered at both ends, fades the same way, and every knot is red or blue, never a mix."""
+    t = np.linspace(0, 1, 60)
+    ob = make_object({1: None})
+    strokes = [np.stack([4 * t, np.zeros_like(t), 0.3 * np.sin(3 * t) + 0.01 * k], axis=1)
+               .astype(np.float32) for k in range(4)]
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    fill_drawing(drawing, strokes)
+    attrs = drawing.attributes
+    n = attrs.domain_size("POINT")
+    taper = np.tile(0.002 + 0.018 * np.sin(np.pi * t), 4).astype(np.float32)
+    attrs["radius"].data.foreach_set("value", taper)
+    attrs["opacity"].data.foreach_set("value", np.tile(0.2 + 0.8 * t, 4).astype(np.float32))
+    red, blue = [0.9, 0.1, 0.1, 1.0], [0.1, 0.1, 0.9, 1.0]
+    colours = np.array([red] * 60 + [blue] * 60 + [red] * 60 + [blue] * 60, np.float32)
+    attrs.new("vertex_color", "FLOAT_COLOR", "POINT").data.foreach_set("color", colours.ravel())
+    assert n == 240
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    out = ob.data.layers["Lines simplified"].frames[0].drawing
+    radii = point_values(out, "radius")
+    assert len(radii) == 1 and len(radii[0]) >= 7
+    r = radii[0]
+    assert r.max() > 0.015 and r[0] < 0.3 * r.max() and r[-1] < 0.3 * r.max()  # tapered
+    opacity = point_values(out, "opacity")[0]
+    left_to_right = np.sign(strokes[0][-1, 0] - strokes[0][0, 0]) * np.sign(
+        np.diff(strokes_of(out)[0][[0, -1], 0]))[0]
+    o = opacity if left_to_right > 0 else opacity[::-1]
+    assert o[0] < 0.35 and o[-1] > 0.85 and (np.diff(o) > -0.05).all()  # fades along
+    got = point_values(out, "vertex_color", 4)[0]
+    is_red = np.abs(got - red).max(axis=1) < 1e-6
+    is_blue = np.abs(got - blue).max(axis=1) < 1e-6
+    assert (is_red | is_blue).all()  # a colour of the ink, never a mix
+    assert is_red.all() or is_blue.all()  # one bundle: its main colour only
+
+
 def test_many_keyframes_go_through_the_process_pool():
     samples = ["house", "cup", "fish", "house", "cup"]
     ob = make_object({1 + 4 * k: name for k, name in enumerate(samples)})

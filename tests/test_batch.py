@@ -10,7 +10,6 @@ import sys
 import bpy
 import pytest
 from blender_scene import clear_scene, fill_drawing, make_object, sample_points
-from dask_cluster import dask_cluster  # noqa: F401 - a fixture
 from helpers import ROOT, SAMPLES
 
 SCRIPT = ROOT / "scripts" / "batch_simplify.py"

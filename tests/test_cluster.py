@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from bench_simplify import synthetic
-from dask_cluster import ENV, dask_cluster  # noqa: F401 - a fixture
+from dask_cluster import ENV
 from helpers import ROOT
 
 from core import SimplifyParams, Sketch, Stroke, simplify_all, write_sketch

@@ -20,6 +20,7 @@ from sketchsimp.core import (  # noqa: E402
     simplify,
 )
 from sketchsimp.sketchsimp_addon.convert import (  # noqa: E402
+    KNOTS_PER_SEGMENT,
     drawing_from_polylines,
     drawing_plane,
     far_out,
@@ -95,13 +96,15 @@ def test_output_strokes_become_bezier_knots_on_the_plane_with_the_ink_radius():
     assert len(new.knots) == len(result.strokes) > 0
     for s, knots, left, right, radius in zip(result.strokes, new.knots, new.handles_left,
                                              new.handles_right, new.radius):
-        n_knots = (len(s.bezier) - 1) // 3 + 1 - bool(s.closed)
+        # each fitted cubic is written as KNOTS_PER_SEGMENT cubics of the same shape
+        n_knots = ((len(s.bezier) - 1) // 3) * KNOTS_PER_SEGMENT + 1 - bool(s.closed)
         assert len(knots) == len(left) == len(right) == len(radius) == n_knots
-        np.testing.assert_allclose(plane.to_2d(knots), s.bezier[::3][:n_knots], atol=1e-5)
-        # the knots of the sampled polyline are every SAMPLES_PER_SEGMENT-th point, and the
-        # radius is the ink's there
-        at = np.arange(n_knots) * SAMPLES_PER_SEGMENT
-        np.testing.assert_allclose(s.points[at], s.bezier[::3][:n_knots], atol=1e-9)
+        np.testing.assert_allclose(plane.to_2d(knots)[::KNOTS_PER_SEGMENT],
+                                   s.bezier[::3][:len(knots[::KNOTS_PER_SEGMENT])], atol=1e-5)
+        # knot i lies on the sampled polyline at point i * SAMPLES_PER_SEGMENT / parts, and
+        # the radius is the ink's there
+        at = np.arange(n_knots) * (SAMPLES_PER_SEGMENT // KNOTS_PER_SEGMENT)
+        np.testing.assert_allclose(plane.to_2d(knots), s.points[at], atol=1e-5)
         np.testing.assert_allclose(radius, s.width[at], rtol=1e-6)
         assert abs(plane.to_2d(knots)).max() < 10  # on the plane, near the drawing
         assert np.all(abs((knots - plane.centre) @ np.cross(*plane.axes)) < 1e-5)

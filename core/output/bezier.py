@@ -14,7 +14,7 @@ from ..arrays.polylines import arc_lengths, end_to_end, split
 
 __all__ = [
     "MAX_DEPTH", "SAMPLES_PER_SEGMENT", "corner_indices", "evaluate_bezier", "fit_bezier",
-    "fit_beziers", "sample_bezier",
+    "fit_beziers", "sample_bezier", "subdivide_bezier",
 ]
 
 
@@ -54,6 +54,32 @@ def sample_bezier(curve: np.ndarray, per_segment: int = SAMPLES_PER_SEGMENT) -> 
     segs = [evaluate_bezier(curve[i:i + 4], t if i == 0 else t[1:])
             for i in range(0, len(curve) - 1, 3)]
     return np.concatenate(segs)
+
+
+def _blossom(u: float, v: float, w: float) -> np.ndarray:
+    """The weights of a cubic's 4 control points in its blossom at (u, v, w)."""
+    return np.array([(1 - u) * (1 - v) * (1 - w),
+                     u * (1 - v) * (1 - w) + (1 - u) * v * (1 - w) + (1 - u) * (1 - v) * w,
+                     u * v * (1 - w) + u * (1 - v) * w + (1 - u) * v * w,
+                     u * v * w])
+
+
+def subdivide_bezier(curve: np.ndarray, parts: int) -> np.ndarray:
+    """The same piecewise Bezier curve, (3k + 1, d) control points, with each cubic split
+    into ``parts`` cubics at equal parameter steps: exactly the same shape, ``parts`` times
+    as many knots (knot ``i`` of the result is point ``i * per_segment / parts`` of
+    :func:`sample_bezier`), so that values given per knot can follow a profile along it.
+
+    >>> c = np.array([[0., 0], [1, 2], [2, 2], [3, 0]])
+    >>> subdivide_bezier(c, 2)[[0, 3, 6]].tolist()  # the middle knot is the curve at 1/2
+    [[0.0, 0.0], [1.5, 1.5], [3.0, 0.0]]
+    """
+    edges = np.linspace(0.0, 1.0, parts + 1)
+    weights = np.concatenate([np.stack([_blossom(a, a, a), _blossom(a, a, b),
+                                        _blossom(a, b, b)]) for a, b in zip(edges, edges[1:])])
+    segments = np.stack([curve[i:i + 4] for i in range(0, len(curve) - 1, 3)])  # (k, 4, d)
+    inner = np.einsum("pc,kcd->kpd", weights, segments).reshape(-1, curve.shape[1])
+    return np.vstack([inner, curve[-1:]])
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
