@@ -23,17 +23,17 @@ from .io.files import read_sketch, write_sketch
 from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
 from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier, subdivide_bezier
 from .parallel import Simplified, default_jobs, simplified, simplify_all
-from .params import PAPER_ALPHA, SimplifyParams
+from .params import EPSILON_SOFT_MAX, PAPER_ALPHA, SimplifyParams
 from .replay_cache import ReplayCache
 from .simplify import SimplifyResult, simplify
 from .sketch import Region, Sketch, SketchError, Stroke
 from .stable import held_to
 
 __all__ = [
-    "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError", "build_base_complex",
-    "clean_sketch", "CleaningReport", "curve_descriptors", "default_jobs", "evaluate_bezier",
-    "fd_distance", "fourier_descriptor", "fourier_descriptors", "held_to", "Normalisation",
-    "normalised_strokes", "Patch", "read_sketch", "Region", "ReplayCache", "sample_bezier",
-    "Simplified", "simplified", "simplify", "simplify_all", "SimplifyParams", "SimplifyResult",
-    "Sketch", "SketchError", "Stroke", "subdivide_bezier", "write_sketch",
+    "EPSILON_SOFT_MAX", "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError",
+    "build_base_complex", "clean_sketch", "CleaningReport", "curve_descriptors", "default_jobs",
+    "evaluate_bezier", "fd_distance", "fourier_descriptor", "fourier_descriptors", "held_to",
+    "Normalisation", "normalised_strokes", "Patch", "read_sketch", "Region", "ReplayCache",
+    "sample_bezier", "Simplified", "simplified", "simplify", "simplify_all", "SimplifyParams",
+    "SimplifyResult", "Sketch", "SketchError", "Stroke", "subdivide_bezier", "write_sketch",
 ]

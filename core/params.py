@@ -7,10 +7,14 @@ from dataclasses import asdict, dataclass, replace
 
 from .sketch import SketchError
 
-__all__ = ["PAPER_ALPHA", "SimplifyParams"]
+__all__ = ["EPSILON_SOFT_MAX", "PAPER_ALPHA", "SimplifyParams"]
 
 #: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
 PAPER_ALPHA = 0.012
+
+#: the top of epsilon's useful range (the add-on's slider ends here; beyond it drawings
+#: merge into blobs); a cached run covers it all, so that every slider position replays
+EPSILON_SOFT_MAX = 0.06
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
-from ..core import PAPER_ALPHA, SimplifyParams
+from ..core import EPSILON_SOFT_MAX, PAPER_ALPHA, SimplifyParams
 
 __all__ = ["DEFAULTS", "LAYER_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS", "SimplifyOptions"]
 
@@ -32,9 +32,9 @@ class SimplifyOptions:
     """Annotations mixed into both the operator and the scene settings."""
 
     epsilon: FloatProperty(
-        name="Epsilon", default=DEFAULTS.epsilon, min=0.0, soft_max=0.06, precision=3,
-        step=0.1, description="How far to simplify: the largest change of shape a merge may "
-        "make (0 keeps every stroke; 0.01 to 0.03 suits most sketches)")
+        name="Epsilon", default=DEFAULTS.epsilon, min=0.0, soft_max=EPSILON_SOFT_MAX,
+        precision=3, step=0.1, description="How far to simplify: the largest change of "
+        "shape a merge may make (0 keeps every stroke; 0.01 to 0.03 suits most sketches)")
     scope: EnumProperty(name="Scope", items=SCOPE_ITEMS, default="CURRENT",
                         description="Which drawings and strokes to simplify")
     layers: EnumProperty(name="Layers", items=LAYER_ITEMS, default="ACTIVE",

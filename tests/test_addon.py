@@ -18,6 +18,7 @@ from blender_scene import (
     snapshot,
 )
 
+from core import EPSILON_SOFT_MAX
 from core.arrays.geometry import lines_from
 
 
@@ -730,3 +731,8 @@ def test_a_new_epsilon_in_the_redo_panel_is_a_replay():
     assert bpy.ops.sketchsimp.simplify(epsilon=0.01, output="REPLACE") == {"FINISHED"}
     assert run.REPLAY.runs == runs + 1  # the second epsilon was replayed, not re-run
     assert len(strokes_of(ob.data.layers["Lines"].frames[0].drawing)) >= replaced
+    clear_scene()  # the top of the slider replays too: the first run covered it all
+    ob = make_object({1: "fish"})
+    assert bpy.ops.sketchsimp.simplify(epsilon=EPSILON_SOFT_MAX, output="REPLACE") == {
+        "FINISHED"}
+    assert run.REPLAY.runs == runs + 1
