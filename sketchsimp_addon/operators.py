@@ -2,15 +2,29 @@
 
 from __future__ import annotations
 
+import time
 import traceback
 
 import bpy
 
 from ..core import SketchError
 from .options import SimplifyOptions
-from .run import simplify_curve_object, simplify_object, write_curve_result, write_results
+from .run import (
+    StepwiseRun,
+    simplify_curve_object,
+    simplify_object,
+    write_curve_result,
+    write_results,
+)
 
-__all__ = ["SKETCHSIMP_OT_simplify", "scene_range"]
+__all__ = ["MODAL_FROM", "SKETCHSIMP_OT_simplify", "scene_range"]
+
+#: from this many drawings on, a run from the interface is modal: Blender stays drawn, the
+#: progress bar moves a drawing at a time, Esc cancels (what finished is written)
+MODAL_FROM = 2
+#: seconds of work per timer tick of a modal run, at least one drawing: short enough for
+#: Esc and the progress bar to answer at once
+TICK = 0.1
 
 
 def scene_range(scene) -> tuple[int, int]:
@@ -45,6 +59,65 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             traceback.print_exc()
             self.report({"ERROR"}, f"Simplify Sketch failed: {type(exc).__name__}: {exc}")
             return {"CANCELLED"}
+
+    def invoke(self, context, event):
+        """Many drawings from the interface run modal; one drawing, the redo panel, scripts
+        and background mode run :meth:`execute` at once."""
+        obj = context.active_object
+        if (context.window is None or obj.type != "GREASEPENCIL"
+                or self.scope not in ("ALL", "RANGE")):
+            return self.execute(context)
+        try:
+            params = self.params()
+            run = StepwiseRun(obj, self, params, context.scene.frame_current,
+                              scene_range(context.scene) if self.scope == "RANGE" else None)
+        except SketchError as exc:
+            self.report({"ERROR"}, str(exc))
+            return {"CANCELLED"}
+        if run.total < MODAL_FROM:
+            return self.execute(context)
+        self._run = run
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.01, window=context.window)
+        wm.modal_handler_add(self)
+        wm.progress_begin(0, run.total)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC":
+            return self._end(context)
+        if event.type != "TIMER":
+            return {"RUNNING_MODAL"}  # nothing else touches the drawings meanwhile
+        run = self._run
+        try:
+            deadline = time.perf_counter() + TICK
+            run.step()
+            while not run.done and time.perf_counter() < deadline:
+                run.step()
+        except Exception as exc:  # the operator boundary, as in execute
+            traceback.print_exc()
+            self.report({"ERROR"}, f"Simplify Sketch failed: {type(exc).__name__}: {exc}")
+            return self._end(context, failed=True)
+        context.window_manager.progress_update(len(run.outputs))
+        context.workspace.status_text_set(
+            f"Simplify Sketch: {len(run.outputs)} of {run.total} drawings (Esc to cancel)")
+        return self._end(context) if run.done else {"RUNNING_MODAL"}
+
+    def _end(self, context, failed: bool = False):
+        """Stop the modal run; write what finished (all of it, unless cancelled)."""
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+        obj, run = context.active_object, self._run
+        results = [] if failed else run.finish()
+        if not any(r.chosen for r in results):
+            if not failed:
+                self.report({"WARNING"}, "Simplify Sketch cancelled: nothing was changed")
+            return {"CANCELLED"}
+        write_results(obj, self, results, context)
+        self._finish(context, run.report)
+        return {"FINISHED"}
 
     def _execute(self, context):
         obj = context.active_object

@@ -38,6 +38,7 @@ from .drawing import DrawingData, NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
+    "StepwiseRun", "results_of", "gather_drawings", "Gathered",
     "FILL_MATERIAL", "FLAT", "HOLE_MATERIAL", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings",
     "DrawingResult", "fill_materials", "held_across_frames", "layer_to_world", "match_parent",
     "new_layer_like", "place_above", "Prepared", "RunReport", "simplify_curve_object",
@@ -283,40 +284,14 @@ def gather_drawings(obj, options, frame_number: int, report: RunReport,
     return Gathered(prepared, empty, held)
 
 
-def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
-                    progress=None, jobs: int | None = None,
-                    frame_range: tuple[int, int] | None = None, engine=None
-                    ) -> tuple[RunReport, list[DrawingResult]]:
-    """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
-
-    Drawings are read here (:func:`gather_drawings`), simplified by the core (in ``jobs``
-    processes; by default a pool of all cores from :data:`POOL_FROM` drawings on; in this
-    process through the :data:`REPLAY` cache, so that a new epsilon for the same drawing is
-    a replay; or by ``engine(sketches, regions)``, e.g. a Dask cluster, when given), and
-    turned into new strokes here. ``progress`` is called with the fraction of drawings done.
-    """
-    report = RunReport()
-    t0 = time.perf_counter()
-    gathered = gather_drawings(obj, options, frame_number, report, frame_range)
-    prepared, empty, held = gathered.prepared, gathered.empty, gathered.held
-    if jobs is None:
-        jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
+def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport
+               ) -> list[DrawingResult]:
+    """The new strokes of each drawing whose output is in ``outputs`` (the first
+    ``len(outputs)`` of ``gathered.prepared``: a cancelled run gives only what finished),
+    and the empty keyframes to keep; counts and skips go to ``report``."""
+    prepared = gathered.prepared[:len(outputs)]
+    empty, held = gathered.empty, gathered.held
     fills = options.fill_regions and not options.as_curve
-    if engine is not None:
-        outputs = engine([p.sketch for p in prepared], fills)
-    elif jobs == 1:  # here, through the replay cache: the redo panel's slider replays
-        outputs = []
-        for k, item in enumerate(prepared):
-            try:
-                outputs.append(simplified(REPLAY.result(item.sketch, params), fills))
-            except SketchError as exc:
-                outputs.append(exc)
-            if progress is not None:
-                progress((k + 1) / len(prepared))
-    else:
-        outputs = simplify_all([p.sketch for p in prepared], params, jobs,
-                               None if progress is None else lambda done, total, _k:
-                               progress(done / total), regions=fills)
     if options.stable and options.scope in ("ALL", "RANGE"):
         outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
@@ -341,6 +316,90 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     results += [DrawingResult(layer, frames, [], NewStrokes.none()) for layer, frames in kept]
     if kept:
         report.notes.append(f"{len(kept)} empty keyframe(s) kept empty")
+    return results
+
+
+class StepwiseRun:
+    """A run over many drawings a few at a time, for the modal operator: each
+    :meth:`step` simplifies the next drawing (through :data:`REPLAY`); :meth:`finish`
+    turns what finished into results, whether the run ended or was cancelled, so that a
+    cancelled run writes every drawing it finished and nothing of the others.
+
+    Args:
+        obj, options, params, frame_number, frame_range: as for :func:`simplify_object`.
+    """
+
+    def __init__(self, obj, options, params: SimplifyParams, frame_number: int,
+                 frame_range: tuple[int, int] | None = None) -> None:
+        self.obj, self.options, self.params = obj, options, params
+        self.report = RunReport()
+        self.t0 = time.perf_counter()
+        self.gathered = gather_drawings(obj, options, frame_number, self.report, frame_range)
+        self.fills = options.fill_regions and not options.as_curve
+        self.outputs: list = []
+
+    @property
+    def total(self) -> int:
+        return len(self.gathered.prepared)
+
+    @property
+    def done(self) -> bool:
+        return len(self.outputs) == self.total
+
+    def step(self) -> None:
+        """Simplify the next drawing."""
+        item = self.gathered.prepared[len(self.outputs)]
+        try:
+            self.outputs.append(simplified(REPLAY.result(item.sketch, self.params), self.fills))
+        except SketchError as exc:
+            self.outputs.append(exc)
+
+    def finish(self) -> list[DrawingResult]:
+        """The results of the drawings finished so far (all of them unless cancelled)."""
+        if not self.done:
+            self.report.notes.append(f"cancelled: {len(self.outputs)} of {self.total} "
+                                     "drawing(s) done, the rest left as they were")
+        results = results_of(self.obj, self.options, self.gathered, self.outputs,
+                             self.report)
+        self.report.seconds = time.perf_counter() - self.t0
+        return results
+
+
+def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
+                    progress=None, jobs: int | None = None,
+                    frame_range: tuple[int, int] | None = None, engine=None
+                    ) -> tuple[RunReport, list[DrawingResult]]:
+    """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
+
+    Drawings are read here (:func:`gather_drawings`), simplified by the core (in ``jobs``
+    processes; by default a pool of all cores from :data:`POOL_FROM` drawings on; in this
+    process through the :data:`REPLAY` cache, so that a new epsilon for the same drawing is
+    a replay; or by ``engine(sketches, regions)``, e.g. a Dask cluster, when given), and
+    turned into new strokes here. ``progress`` is called with the fraction of drawings done.
+    """
+    report = RunReport()
+    t0 = time.perf_counter()
+    gathered = gather_drawings(obj, options, frame_number, report, frame_range)
+    prepared = gathered.prepared
+    if jobs is None:
+        jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
+    fills = options.fill_regions and not options.as_curve
+    if engine is not None:
+        outputs = engine([p.sketch for p in prepared], fills)
+    elif jobs == 1:  # here, through the replay cache: the redo panel's slider replays
+        outputs = []
+        for k, item in enumerate(prepared):
+            try:
+                outputs.append(simplified(REPLAY.result(item.sketch, params), fills))
+            except SketchError as exc:
+                outputs.append(exc)
+            if progress is not None:
+                progress((k + 1) / len(prepared))
+    else:
+        outputs = simplify_all([p.sketch for p in prepared], params, jobs,
+                               None if progress is None else lambda done, total, _k:
+                               progress(done / total), regions=fills)
+    results = results_of(obj, options, gathered, outputs, report)
     report.seconds = time.perf_counter() - t0
     return report, results
 

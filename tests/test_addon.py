@@ -679,6 +679,44 @@ def test_taper_opacity_and_colour_follow_the_ink_along_each_stroke():
     assert is_red.all() or is_blue.all()  # one bundle: its main colour only
 
 
+def test_a_cancelled_stepwise_run_writes_the_drawings_it_finished_and_nothing_else():
+    """The modal operator's run, a drawing a step: cancelled after two of four keyframes,
+    the two are written whole and the other two left as they were; run to the end, it
+    gives what the one-go run gives."""
+    from types import SimpleNamespace
+
+    from sketchsimp.core import SimplifyParams
+    from sketchsimp.sketchsimp_addon import run
+
+    ob = make_object({1: "house", 5: "cup", 9: "fish", 13: "house"})
+    before = {f.frame_number: snapshot(f.drawing) for f in ob.data.layers["Lines"].frames}
+    options = SimpleNamespace(scope="ALL", layers="ACTIVE", output="LAYER", hide_source=True,
+                              as_curve=False, fill_regions=False, stable=False)
+    stepwise = run.StepwiseRun(ob, options, SimplifyParams(), 1)
+    assert stepwise.total == 4
+    stepwise.step()
+    stepwise.step()
+    results = stepwise.finish()
+    assert [r.frames[0].frame_number for r in results] == [1, 5]
+    assert "cancelled: 2 of 4 drawing(s) done" in stepwise.report.message()
+    run.write_results(ob, options, results, bpy.context)
+    out = ob.data.layers["Lines simplified"]
+    assert sorted(f.frame_number for f in out.frames) == [1, 5]
+    assert {f.frame_number: snapshot(f.drawing)
+            for f in ob.data.layers["Lines"].frames} == before
+    whole = run.StepwiseRun(ob, options, SimplifyParams(), 1)
+    while not whole.done:
+        whole.step()
+    _, at_once = run.simplify_object(ob, options, SimplifyParams(), 1, jobs=1)
+    assert [len(r.new.knots) for r in whole.finish()] == [len(r.new.knots) for r in at_once]
+
+
+def test_invoked_without_a_window_the_operator_runs_at_once():
+    ob = make_object({1: "house", 5: "cup", 9: "fish"})
+    assert bpy.ops.sketchsimp.simplify("INVOKE_DEFAULT", scope="ALL") == {"FINISHED"}
+    assert len(ob.data.layers["Lines simplified"].frames) == 3
+
+
 def test_many_keyframes_go_through_the_process_pool():
     samples = ["house", "cup", "fish", "house", "cup"]
     ob = make_object({1 + 4 * k: name for k, name in enumerate(samples)})
@@ -720,8 +758,10 @@ def test_nan_points_and_an_object_without_layers():
         bpy.ops.sketchsimp.simplify()
 
 
-def test_a_new_epsilon_in_the_redo_panel_is_a_replay():
+def test_a_new_epsilon_in_the_redo_panel_is_a_replay(monkeypatch):
+    from sketchsimp.core import ReplayCache
     from sketchsimp.sketchsimp_addon import run
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())  # nothing cached by other tests
     ob = make_object({1: "fish"})
     runs = run.REPLAY.runs
     assert bpy.ops.sketchsimp.simplify(epsilon=0.02, output="REPLACE") == {"FINISHED"}
