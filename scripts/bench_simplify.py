@@ -57,7 +57,8 @@ def score(path: Path, params: SimplifyParams, repeat: int = 1) -> dict:
         result.at(params.epsilon / 2)  # what a slider does: replay at another epsilon
         at_ms = min(at_ms, 1e3 * (time.perf_counter() - t0))
     return measure(path, sketch, [s.points for s in result.strokes]) | {
-        "seconds": seconds, "at_ms": at_ms, "patches": result.counts["before"]["patches"]}
+        "seconds": seconds, "at_ms": at_ms, "patches": result.counts["before"]["patches"],
+        "stages": {k: v for k, v in result.timings.items() if k != "total"}}
 
 
 def diagonal(sketch) -> float:
@@ -144,17 +145,21 @@ def measure_synthetic(n: int) -> tuple[float, float]:
 
 def scaling(sizes: list[int]) -> dict:
     """Seconds and peak memory on synthetic sketches of these sizes, each printed as it is
-    measured, and the growth exponents of both (the slope of a log-log fit)."""
+    measured, and the growth exponents of both (the slope of a log-log fit, over the sizes
+    from 1,000 strokes on where there are two: below, fixed costs flatten the slope)."""
     rows = []
     for n in sizes:
         seconds, peak_mb = measure_synthetic(n)
         rows.append({"strokes": n, "seconds": seconds, "peak_mb": peak_mb})
         print(f"  synthetic {n:6d} strokes: {seconds:7.2f} s, peak memory {peak_mb:7.1f} MB",
               flush=True)
-    x = np.log([r["strokes"] for r in rows])
+    fitted = [r for r in rows if r["strokes"] >= 1000]
+    fitted = fitted if len(fitted) >= 2 else rows
+    x = np.log([r["strokes"] for r in fitted])
     return {"rows": rows,
-            "time_exponent": float(np.polyfit(x, np.log([r["seconds"] for r in rows]), 1)[0]),
-            "memory_exponent": float(np.polyfit(x, np.log([r["peak_mb"] for r in rows]), 1)[0])}
+            "time_exponent": float(np.polyfit(x, np.log([r["seconds"] for r in fitted]), 1)[0]),
+            "memory_exponent": float(np.polyfit(x, np.log([r["peak_mb"] for r in fitted]),
+                                                1)[0])}
 
 
 def machine_pace(repeat: int = 3) -> float:
@@ -181,7 +186,7 @@ def main() -> int:
     ap.add_argument("--repeat", type=int, default=1,
                     help="time each sketch as the best of this many runs (as timeit does: "
                          "slower runs are the machine busy elsewhere)")
-    ap.add_argument("--scaling", default="100,1000,10000",
+    ap.add_argument("--scaling", default="100,1000,10000,30000",
                     help="synthetic sizes for the time-against-size fit ('' to skip)")
     args = ap.parse_args()
     params = SimplifyParams(epsilon=args.epsilon)
@@ -214,19 +219,40 @@ def main() -> int:
         print(f"\nmedians over {len(rows)} sketches: out/intended {med('per_intended'):.2f} "
               f"(input {np.median([r['strokes_in'] / r['intended'] for r in rows.values()]):.2f}), "
               f"coverage {med('coverage'):.3f}, fidelity {med('fidelity_px'):.2f} px, "
-              f"F {med('f_score'):.3f}, seconds {med('seconds'):.2f} "
-              f"(largest {max(r['seconds'] for r in rows.values()):.2f}), "
-              f"replay at epsilon/2 {med('at_ms'):.0f} ms")
+              f"F {med('f_score'):.3f}")
         print(f"worst coverage {min(r['coverage'] for r in rows.values()):.3f}")
         after = machine_pace()
-        print(f"machine pace: {after:.2f} s after the sketches ({pace:.2f} s before)")
+        p = (pace + after) / 2
+        print(f"machine pace: {after:.2f} s after the sketches ({pace:.2f} s before): "
+              f"p = {p:.3f} s, times below in p")
+        largest = max(rows.values(), key=lambda r: r["strokes_in"])
+        at = [r["at_ms"] / 1e3 for r in rows.values()]
+        print(f"  median sketch {med('seconds'):.2f} s = {med('seconds') / p:.1f}p (target <= 5p); "
+              f"largest ({largest['strokes_in']} strokes) {largest['seconds']:.2f} s = "
+              f"{largest['seconds'] / p:.1f}p (target <= 40p)")
+        print(f"  replay at epsilon/2: median {np.median(at):.3f} s = {np.median(at) / p:.1f}p "
+              f"(target <= 1p), largest sketch {largest['at_ms'] / 1e3:.2f} s = "
+              f"{largest['at_ms'] / 1e3 / p:.1f}p (target <= 10p)")
+        slow = sorted(rows.items(), key=lambda kv: -kv[1]["seconds"] / kv[1]["strokes_in"])
+        print("  the five slowest per stroke, and where their time goes:")
+        for name, r in slow[:5]:
+            stages = ", ".join(f"{k} {v / r['seconds']:.0%}" for k, v in
+                               sorted(r["stages"].items(), key=lambda kv: -kv[1])[:3])
+            print(f"    {name[:40]:40s} {r['strokes_in']:5d} strokes, {r['patches']:6d} patches"
+                  f" {r['seconds']:6.2f} s ({1e3 * r['seconds'] / r['strokes_in']:.1f} ms a "
+                  f"stroke): {stages}")
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     if args.scaling:
         print("\ntime against size:")
         fit = scaling([int(s) for s in args.scaling.split(",")])
-        print(f"  growth exponent {fit['time_exponent']:.2f} (aim: at most 1.3); peak memory "
-              "aim: under 500 MB at 10,000 strokes")
+        p = machine_pace()
+        print(f"  growth exponent {fit['time_exponent']:.2f} over "
+              f"{args.scaling.replace(',', ', ')} strokes (target <= 1.1 from 1,000 to 30,000); "
+              "peak memory target under 500 MB at 10,000 strokes")
+        for r in fit["rows"]:
+            print(f"  {r['strokes']:6d} strokes: {r['seconds'] / p:7.1f}p"
+                  + ("  (target <= 150p)" if r["strokes"] == 10000 else ""))
     return 0
 
 

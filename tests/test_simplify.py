@@ -293,6 +293,7 @@ def test_random_sketches_simplify_without_straying_from_the_ink(raw):
 
 
 def test_replay_cache_gives_fresh_results_and_runs_once():
+    from core import EPSILON_SOFT_MAX
     from core.replay_cache import ReplayCache
     sketch = read_sketch(SAMPLES / "cup.scap")
     cache = ReplayCache()
@@ -302,8 +303,10 @@ def test_replay_cache_gives_fresh_results_and_runs_once():
         assert len(got) == len(fresh)
         for a, b in zip(got, fresh):
             np.testing.assert_array_equal(a.bezier, b.bezier)
-    assert cache.runs == 1  # every epsilon up to 0.03 replayed from one run
-    cache.strokes(sketch, SimplifyParams(epsilon=0.05))
+    assert cache.runs == 1  # every epsilon of the slider replayed from one run
+    cache.strokes(sketch, SimplifyParams(epsilon=EPSILON_SOFT_MAX))
+    assert cache.runs == 1
+    cache.strokes(sketch, SimplifyParams(epsilon=0.08))
     cache.strokes(sketch, SimplifyParams(epsilon=0.015, alpha=0.02))
     assert cache.runs == 3  # beyond what the run covered, and other parameters
 
