@@ -145,7 +145,7 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     t0 = time.perf_counter()
     cleaned, report = clean_sketch(sketch)
     unit, norm = normalised_strokes(cleaned)
-    params = params.resolved()
+    params = params.resolved(unit)  # "auto" alpha follows the strokes
     t1 = time.perf_counter()
     if params.max_curves is not None:
         crossings = more_crossings_than(unit, params.max_curves // 2)

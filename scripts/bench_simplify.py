@@ -119,10 +119,10 @@ MEMORY_PROBE = """
 import resource, sys, time
 sys.path[:0] = [{root!r}, {scripts!r}]
 from bench_simplify import synthetic
-from core import Sketch, Stroke, simplify
+from core import SimplifyParams, Sketch, Stroke, simplify
 sketch = Sketch([Stroke(p) for p in synthetic({n})])
 t0 = time.perf_counter()
-simplify(sketch)
+simplify(sketch, SimplifyParams(max_curves=None))  # 30,000 strokes cross 52,000 times
 seconds = time.perf_counter() - t0
 try:
     status = open("/proc/self/status").read()

@@ -2,7 +2,8 @@
 issue, per source, with the five worst sketches of each, and far-ink invariance.
 
     python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
-    python scripts/quality.py --compare BEFORE.json AFTER.json
+    python scripts/quality.py --compare BEFORE.json AFTER.json [--pictures DIR --before-root
+                              TREE]
 
 Measures per sketch (``bench_simplify.measure``; the scorer is ``scripts/metrics.py``, which
 shares no code with ``core``): doubled, ink kept within 2% of the diagonal, coverage at 1%,
@@ -10,6 +11,10 @@ fidelity in px, output strokes per input stroke and per intended curve, and on t
 sketches the F-score at 1% and the tight recall at 0.4% of the diagonal. ``--root``
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
+
+``--pictures`` with ``--compare`` draws the five worst sketches of AFTER by doubled and by ink
+kept (and the five with most strokes per stroke in), each as rough input | before (the
+checkout ``--before-root``) | after (``--root``), into DIR.
 
 Far-ink invariance: a few sketches simplified alone and with one short stroke ten diagonals
 away; the share of the drawing's output that moved more than 0.5% of the diagonal.
@@ -87,6 +92,54 @@ def far_ink(args: tuple[str, str]) -> tuple[str, float]:
     return path, changed([s.points for s in alone], near, 0.005 * diag, 0.0025 * diag)
 
 
+def output_of(args: tuple[str, str]) -> list[np.ndarray]:
+    """The output polylines of one sketch, simplified by the checkout at ``root``."""
+    root, path = args
+    _setup(root)
+    from core import SimplifyParams, read_sketch, simplify
+
+    return [s.points for s in simplify(read_sketch(path), SimplifyParams()).strokes]
+
+
+def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int) -> None:
+    """Input | before | after of the five worst sketches by doubled, ink kept and strokes
+    per stroke in (of ``after``), one PNG each."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from core import read_sketch
+
+    ok = {k: v for k, v in after.items() if not k.startswith("_") and "error" not in v}
+    chosen: dict[str, str] = {}
+    for m in ("doubled", "ink_kept", "per_in"):
+        ranked = sorted(ok, key=lambda k: ok[k][m], reverse=not HIGHER_IS_BETTER[m])
+        for k in ranked[:5]:
+            chosen.setdefault(k, m)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    paths = [str(DATA / k) for k in chosen]
+    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        outs = {root: list(pool.map(output_of, [(root, p) for p in paths])) for root in roots}
+    for k, (key, measure) in enumerate(chosen.items()):
+        ink = [s.points for s in read_sketch(DATA / key).strokes]
+        panels = [(f"input: {len(ink)} strokes", ink)] + [
+            (f"{label}: {len(outs[root][k])} strokes", outs[root][k])
+            for label, root in zip(("before", "after"), roots)]
+        fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+        for ax, (title, lines) in zip(axes, panels):
+            for line in lines:
+                ax.plot(line[:, 0], line[:, 1], lw=0.7)
+            ax.set_title(title, fontsize=10)
+            ax.set_aspect("equal")
+            ax.invert_yaxis()
+            ax.axis("off")
+        fig.suptitle(f"{short_name(key)}: worst by {measure} ({ok[key][measure]:.3f} after)")
+        fig.tight_layout()
+        fig.savefig(out_dir / f"{measure}_{short_name(key).replace('/', '_')}.png", dpi=60)
+        plt.close(fig)
+
+
 def short_name(key: str) -> str:
     """A sketch's path under the data folder, shortened: designer/object for lift3d."""
     parts = Path(key).parts
@@ -131,10 +184,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--svg", help="write each output SVG into this folder")
     ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
+    ap.add_argument("--pictures", type=Path, help="with --compare: draw the worst here")
+    ap.add_argument("--before-root", help="with --pictures: the checkout of BEFORE")
     args = ap.parse_args(argv)
     if args.compare:
         before, after = (json.loads(Path(p).read_text()) for p in args.compare)
         print("BEFORE\n" + summary(before) + "\n\nAFTER\n" + summary(after))
+        if args.pictures and args.before_root:
+            roots = (str(Path(args.before_root).resolve()), str(Path(args.root).resolve()))
+            worst_pictures(after, roots, args.pictures, args.jobs)
         return 0
     if not DATA.is_dir():
         print(f"no sketches at {DATA}: nothing to score")

@@ -351,6 +351,25 @@ def test_alpha_is_a_fraction_of_the_drawing_and_auto_is_the_papers():
     assert result.normalisation.scale == pytest.approx(size)  # the drawing's, not the canvas's
 
 
+def test_on_a_wide_canvas_of_small_parts_the_bundle_width_follows_the_strokes():
+    """Synthetic sketches of 1,000 and 4,000 strokes (bundles of 3 strokes 80 units long,
+    the canvas growing with their number): the auto width is half a stroke's length on
+    both, where 1.2% of the diagonal would be 54 and 107 units."""
+    from bench_simplify import synthetic
+
+    from core import normalised_strokes
+
+    widths = []
+    for n in (1000, 4000):
+        unit, norm = normalised_strokes(Sketch([Stroke(p) for p in synthetic(n)]))
+        widths.append(SimplifyParams().resolved(unit).alpha * norm.scale)
+        assert 0.012 * norm.scale > 50  # what the paper's alpha would be
+    assert widths[0] == pytest.approx(widths[1], rel=0.02)
+    assert widths[0] == pytest.approx(40, rel=0.05)
+    house = read_sketch(SAMPLES / "house.scap")  # a drawing of long strokes: the paper's
+    assert simplify(house).params.alpha == 0.012
+
+
 def test_an_x_of_two_long_strokes_gives_two_strokes():
     t = np.linspace(0, 1, 80)[:, None]
     x = Sketch([Stroke(np.hstack([t, 0.3 * t])), Stroke(np.hstack([t, 0.3 - 0.3 * t]))])
