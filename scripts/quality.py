@@ -119,8 +119,10 @@ def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int
             chosen.setdefault(k, m)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [str(DATA / k) for k in chosen]
-    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-        outs = {root: list(pool.map(output_of, [(root, p) for p in paths])) for root in roots}
+    outs = {}
+    for root in roots:  # a pool each: a worker imports one checkout's core
+        with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+            outs[root] = list(pool.map(output_of, [(root, p) for p in paths]))
     for k, (key, measure) in enumerate(chosen.items()):
         ink = [s.points for s in read_sketch(DATA / key).strokes]
         panels = [(f"input: {len(ink)} strokes", ink)] + [
