@@ -112,3 +112,12 @@ def test_identical_sketches_are_simplified_once_in_the_local_pool():
     assert calls == [(1, 2, 0), (2, 2, 1)]
     assert [len(o.strokes) for o in outs] == [1, 1, 1, 1]
     assert outs[0] is outs[2] is outs[3]
+
+
+def test_without_dask_a_scheduler_asks_for_the_cluster_extra(monkeypatch):
+    from core import SketchError
+    from core.cluster import ClusterRun
+
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if not installed
+    with pytest.raises(SketchError, match=r"pip install 'sketchsimp\[cluster\]'"):
+        ClusterRun("tcp://127.0.0.1:9", SimplifyParams())
