@@ -46,6 +46,9 @@ class SimplifyParams:
     corner_angle  turns sharper than this, in degrees, stay corners of the fitted Beziers
     fit_error     largest distance of a fitted Bezier from its polyline, as a fraction of
                   d_eps = alpha * D (the bundle width sets how exact the fit need be)
+    smoothing     each output line is smoothed between its corners, before the fit, by a
+                  Gaussian of this many d_eps (0: none), so that it shows no steps where
+                  it passes from one stroke of a bundle to the next
     target_patches, target_curves   optional: also stop once this few remain
     max_curves    refuse a sketch whose strokes cross into more curves than this (None: no
                   limit): the largest real sketches make about 17,000, and one of 100,000
@@ -61,6 +64,7 @@ class SimplifyParams:
     join_angle: float = 40.0
     corner_angle: float = 50.0
     fit_error: float = 1 / 6
+    smoothing: float = 0.5
     target_patches: int | None = None
     target_curves: int | None = None
     max_curves: int | None = 100_000
@@ -71,12 +75,13 @@ class SimplifyParams:
                 raise SketchError(f"bad parameter: {message}")
 
         numbers = ("epsilon", "beta", "gamma", "angle", "join_angle", "corner_angle",
-                   "fit_error") + (() if self.alpha == "auto" else ("alpha",))
+                   "fit_error", "smoothing") + (() if self.alpha == "auto" else ("alpha",))
         for name in numbers:
             value = getattr(self, name)
             check(isinstance(value, (int, float)) and math.isfinite(value),
                   f"{name} must be a finite number, got {value!r}")
         check(self.epsilon >= 0, f"epsilon must be >= 0, got {self.epsilon}")
+        check(0 <= self.smoothing <= 4, f"smoothing must be 0 to 4, got {self.smoothing}")
         check(isinstance(self.samples, int) and self.samples >= 8 and self.samples % 2 == 0,
               f"samples (N) must be an even integer >= 8, got {self.samples!r}")
         check(self.alpha == "auto" or 0 < self.alpha <= 0.2,

@@ -76,9 +76,12 @@ class SimplifyOptions:
     corner_angle: FloatProperty(name="Corner Angle", default=DEFAULTS.corner_angle, min=5.0,
                                 max=180.0, description="Turns sharper than this, in degrees, "
                                 "stay sharp corners of the output curves")
+    smoothing: FloatProperty(name="Smoothing", default=DEFAULTS.smoothing, min=0.0, max=4.0,
+                             description="Smooth each output line between its corners over "
+                             "this many bundle widths, so that it shows no steps (0: none)")
 
     def params(self) -> SimplifyParams:
         return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha,
                               samples=self.samples - self.samples % 2, angle=self.angle,
                               beta=self.beta, join_angle=self.join_angle,
-                              corner_angle=self.corner_angle)
+                              corner_angle=self.corner_angle, smoothing=self.smoothing)

@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from core.arrays.polylines import resample_polyline
-from core.output.bezier import corner_indices, fit_bezier, fit_beziers, sample_bezier
+from core.output.bezier import (
+    corner_indices,
+    fit_bezier,
+    fit_beziers,
+    sample_bezier,
+    smooth_between_corners,
+)
 
 
 def distance_to(points, polyline):
@@ -92,3 +99,21 @@ def test_polylines_fitted_together_are_each_fitted_alone():
     assert sum(len(c) > 4 for c in alone) > 10  # most are split into several cubics
     for a, b in zip(together, alone):
         assert a.tobytes() == b.tobytes()
+
+
+def test_smoothing_takes_the_step_out_of_a_line_and_keeps_its_corners_and_ends():
+    """A line passing from one stroke of a bundle to the next (a step of 0.4, sampled every
+    0.25, as the output stage samples at a quarter of d_eps = 1) comes out without the
+    step; an L keeps its corner point and both ends exactly."""
+    x = np.arange(0, 10.01, 0.25)
+    step = np.column_stack([x, np.where(x < 5, 0.0, 0.4)])
+    smooth = smooth_between_corners(step, 2.0, corner_indices(step, 50.0, 1.0))
+    assert np.abs(np.diff(smooth[:, 1])).max() < 0.1  # spread over 5 samples: was one jump of 0.4
+    assert np.abs(np.diff(step[:, 1])).max() == pytest.approx(0.4)
+    np.testing.assert_array_equal(smooth[[0, -1]], step[[0, -1]])
+    t = np.arange(0, 5.01, 0.25)
+    ell = np.vstack([np.column_stack([t, 0 * t]), np.column_stack([5 + 0 * t[1:], t[1:]])])
+    corners = corner_indices(ell, 50.0, 1.0)
+    assert corners == [20]
+    kept = smooth_between_corners(ell, 2.0, corners)
+    np.testing.assert_allclose(kept, ell, atol=1e-12)  # straight pieces stay as they are

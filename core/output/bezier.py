@@ -14,7 +14,7 @@ from ..arrays.polylines import arc_lengths, end_to_end, split
 
 __all__ = [
     "MAX_DEPTH", "SAMPLES_PER_SEGMENT", "corner_indices", "evaluate_bezier", "fit_bezier",
-    "fit_beziers", "sample_bezier", "subdivide_bezier",
+    "fit_beziers", "sample_bezier", "smooth_between_corners", "subdivide_bezier",
 ]
 
 
@@ -111,6 +111,46 @@ def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) ->
             continue
         corners.append(int(k))
     return corners
+
+
+def smooth_between_corners(points: np.ndarray, sigma: float, corners: list[int],
+                           closed: bool = False) -> np.ndarray:
+    """An evenly spaced polyline smoothed by a Gaussian of ``sigma`` samples, piece by piece
+    between its ``corners`` (indices), which stay where they are, as do the ends of an open
+    polyline: each piece is mirrored through its ends (2 p0 - p), so that a straight end
+    stays straight and does not shrink. A closed polyline without corners wraps round.
+
+    >>> line = np.column_stack([np.arange(6.0), [0, 0, 1, 0, 0, 0.0]])
+    >>> smooth_between_corners(line, 1.0, []).round(2)[[0, 2, 5]].tolist()
+    [[0.0, 0.0], [2.0, 0.4], [5.0, 0.0]]
+    """
+    if sigma <= 0 or len(points) < 3:
+        return points
+    half = int(np.ceil(3 * sigma))
+    kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    if closed and not corners:
+        ring = points[:-1]
+        pad = np.concatenate([ring[-half:], ring, ring[:half]]) if len(ring) > half else None
+        if pad is None:
+            return points
+        out = np.column_stack([np.convolve(pad[:, k], kernel, mode="valid") for k in (0, 1)])
+        return np.vstack([out, out[:1]])
+    out = points.copy()
+    bounds = [0, *sorted(set(corners)), len(points) - 1]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        piece = points[a:b + 1]
+        if len(piece) < 3:
+            continue
+        h = min(half, len(piece) - 1)
+        head = 2 * piece[0] - piece[h:0:-1]
+        tail = 2 * piece[-1] - piece[-2:-2 - h:-1]
+        pad = np.concatenate([head, piece, tail])
+        k = kernel if h == half else np.exp(-0.5 * (np.arange(-h, h + 1) / sigma) ** 2)
+        k = k / k.sum()
+        smooth = np.column_stack([np.convolve(pad[:, d], k, mode="valid") for d in (0, 1)])
+        out[a + 1:b] = smooth[1:-1]
+    return out
 
 
 #: a piece is split at most this deep (2 ** 25 cubics: never reached in practice)

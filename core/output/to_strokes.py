@@ -42,7 +42,13 @@ from ..arrays.polylines import arc_lengths, resample_polyline, total_lengths
 from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
 from ..params import SimplifyParams
-from .bezier import SAMPLES_PER_SEGMENT, corner_indices, fit_beziers, sample_bezier
+from .bezier import (
+    SAMPLES_PER_SEGMENT,
+    corner_indices,
+    fit_beziers,
+    sample_bezier,
+    smooth_between_corners,
+)
 from .bi_edges import merge_bi_edges
 from .memo import StrokeMemo, shape_key
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
@@ -388,6 +394,9 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
         pts = resample_polyline(stroke.points, d_eps / 4)
+        if params.smoothing > 0:  # 4 samples a d_eps: sigma in samples
+            corners = corner_indices(pts, params.corner_angle, d_eps)
+            pts = smooth_between_corners(pts, 4 * params.smoothing, corners, stroke.closed)
         strokes.append((shape_key(pts, stroke.closed), pts, stroke.closed))
     fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
