@@ -29,9 +29,9 @@ import builtins
 import hashlib
 import types
 from collections.abc import Iterator
-from dataclasses import fields
 
 from . import remote
+from .parallel import Simplified
 from .params import SimplifyParams
 from .replay_cache import sketch_digest
 from .sketch import Region, Sketch, SketchError, Stroke
@@ -41,9 +41,8 @@ __all__ = ["ClusterRun", "payload", "task_key"]
 
 def payload(sketch: Sketch, params: SimplifyParams, regions: bool) -> dict:
     """A sketch and its parameters as plain data for :func:`core.remote.simplify_payload`."""
-    strokes = [{k: getattr(s, k) for k in remote.STROKE_FIELDS} for s in sketch.strokes]
-    return {"strokes": strokes, "width": sketch.width, "height": sketch.height,
-            "params": {f.name: getattr(params, f.name) for f in fields(params)},
+    return {"strokes": [remote.plain_stroke(s) for s in sketch.strokes],
+            "width": sketch.width, "height": sketch.height, "params": params.as_dict(),
             "regions": regions}
 
 
@@ -66,9 +65,7 @@ def _by_value(function):
                               function.__name__, function.__defaults__)
 
 
-def _from_plain(out: dict):
-    from .parallel import Simplified  # parallel imports this module
-
+def _from_plain(out: dict) -> Simplified | SketchError:
     if "error" in out:
         return SketchError(out["error"])
     return Simplified([Stroke(**s) for s in out["strokes"]],
