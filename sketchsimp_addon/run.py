@@ -38,11 +38,11 @@ from .drawing import DrawingData, NewStrokes
 from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
-    "StepwiseRun", "results_of", "gather_drawings", "Gathered",
-    "FILL_MATERIAL", "FLAT", "HOLE_MATERIAL", "LOOK", "POOL_FROM", "REPLAY", "collect_drawings",
-    "DrawingResult", "fill_materials", "held_across_frames", "layer_to_world", "match_parent",
-    "new_layer_like", "place_above", "Prepared", "RunReport", "simplify_curve_object",
-    "simplify_object", "source_frames", "target_layers", "untouchable_materials", "why_left_alone",
+    "collect_drawings", "DrawingResult", "FILL_MATERIAL", "fill_materials", "FLAT",
+    "gather_drawings", "Gathered", "held_across_frames", "HOLE_MATERIAL", "layer_to_world", "LOOK",
+    "match_parent", "new_layer_like", "place_above", "POOL_FROM", "Prepared", "REPLAY",
+    "results_of", "RunReport", "simplified_here", "simplify_curve_object", "simplify_object",
+    "source_frames", "StepwiseRun", "target_layers", "untouchable_materials", "why_left_alone",
     "write_curve_result", "write_fills", "write_frames", "write_results",
 ]
 
@@ -319,6 +319,15 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
     return results
 
 
+def simplified_here(sketch, params: SimplifyParams, fills: bool):
+    """One drawing simplified in this process through :data:`REPLAY` (a new epsilon for
+    the same drawing is a replay), or its :class:`SketchError`."""
+    try:
+        return simplified(REPLAY.result(sketch, params), fills)
+    except SketchError as exc:
+        return exc
+
+
 class StepwiseRun:
     """A run over many drawings a few at a time, for the modal operator: each
     :meth:`step` simplifies the next drawing (through :data:`REPLAY`); :meth:`finish`
@@ -349,10 +358,7 @@ class StepwiseRun:
     def step(self) -> None:
         """Simplify the next drawing."""
         item = self.gathered.prepared[len(self.outputs)]
-        try:
-            self.outputs.append(simplified(REPLAY.result(item.sketch, self.params), self.fills))
-        except SketchError as exc:
-            self.outputs.append(exc)
+        self.outputs.append(simplified_here(item.sketch, self.params, self.fills))
 
     def finish(self) -> list[DrawingResult]:
         """The results of the drawings finished so far (all of them unless cancelled)."""
@@ -389,10 +395,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     elif jobs == 1:  # here, through the replay cache: the redo panel's slider replays
         outputs = []
         for k, item in enumerate(prepared):
-            try:
-                outputs.append(simplified(REPLAY.result(item.sketch, params), fills))
-            except SketchError as exc:
-                outputs.append(exc)
+            outputs.append(simplified_here(item.sketch, params, fills))
             if progress is not None:
                 progress((k + 1) / len(prepared))
     else:
