@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import time
+from collections import Counter
 from pathlib import Path
 
 from ..io.files import read_sketch, write_sketch
@@ -52,16 +53,18 @@ def batch(in_dir: Path, out_dir: Path, params: SimplifyParams, jobs: int,
         stale.unlink(missing_ok=True)
     t0 = time.perf_counter()
 
+    stems = Counter(p.stem for p in files)
+
     def target_of(path: Path) -> Path:
         # fish.svg and fish.scap side by side would both make fish.svg: keep the suffix then
-        clash = sum(p.stem == path.stem for p in files) > 1
-        return out_dir / ((path.name if clash else path.stem) + suffix)
+        return out_dir / ((path.name if stems[path.stem] > 1 else path.stem) + suffix)
 
     rows: dict[str, dict] = {}
     todo: list[tuple[Path, Sketch]] = []
     for path in files:
-        if resume and target_of(path).exists():
-            rows[path.name] = {"resumed": True, "output": str(target_of(path))}
+        target = target_of(path)
+        if resume and target.exists():
+            rows[path.name] = {"resumed": True, "output": str(target)}
             continue
         try:
             sketch = read_sketch(path)
