@@ -103,11 +103,8 @@ def output_of(args: tuple[str, str]) -> list[np.ndarray]:
 
 def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int) -> None:
     """Input | before | after of the five worst sketches by doubled, ink kept and strokes
-    per stroke in (of ``after``), one PNG each."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    per stroke in (of ``after``), one PNG each (drawn as the report draws its sketches)."""
+    from report import picture
 
     from core import read_sketch
 
@@ -125,21 +122,11 @@ def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int
             outs[root] = list(pool.map(output_of, [(root, p) for p in paths]))
     for k, (key, measure) in enumerate(chosen.items()):
         ink = [s.points for s in read_sketch(DATA / key).strokes]
-        panels = [(f"input: {len(ink)} strokes", ink)] + [
+        panels = [(f"{short_name(key)}, worst by {measure} ({ok[key][measure]:.3f} after): "
+                   f"input, {len(ink)} strokes", ink)] + [
             (f"{label}: {len(outs[root][k])} strokes", outs[root][k])
             for label, root in zip(("before", "after"), roots)]
-        fig, axes = plt.subplots(1, 3, figsize=(15, 5))
-        for ax, (title, lines) in zip(axes, panels):
-            for line in lines:
-                ax.plot(line[:, 0], line[:, 1], lw=0.7)
-            ax.set_title(title, fontsize=10)
-            ax.set_aspect("equal")
-            ax.invert_yaxis()
-            ax.axis("off")
-        fig.suptitle(f"{short_name(key)}: worst by {measure} ({ok[key][measure]:.3f} after)")
-        fig.tight_layout()
-        fig.savefig(out_dir / f"{measure}_{short_name(key).replace('/', '_')}.png", dpi=60)
-        plt.close(fig)
+        picture(out_dir / f"{measure}_{short_name(key).replace('/', '_')}.png", panels)
 
 
 def short_name(key: str) -> str:
