@@ -12,9 +12,9 @@ sketches the F-score at 1% and the tight recall at 0.4% of the diagonal. ``--roo
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
 
-``--pictures`` with ``--compare`` draws the five worst sketches of AFTER by doubled and by ink
-kept (and the five with most strokes per stroke in), each as rough input | before (the
-checkout ``--before-root``) | after (``--root``), into DIR.
+``--pictures`` with ``--compare`` draws the five worst sketches of AFTER by doubled, ink
+kept, strokes per stroke in and tight recall, each as rough input | before (the checkout
+``--before-root``) | after (``--root``), into DIR.
 
 Far-ink invariance: a few sketches simplified alone and with one short stroke ten diagonals
 away; the share of the drawing's output that moved more than 0.5% of the diagonal.
@@ -102,16 +102,18 @@ def output_of(args: tuple[str, str]) -> list[np.ndarray]:
 
 
 def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int) -> None:
-    """Input | before | after of the five worst sketches by doubled, ink kept and strokes
-    per stroke in (of ``after``), one PNG each (drawn as the report draws its sketches)."""
+    """Input | before | after of the five worst sketches by doubled, ink kept, strokes per
+    stroke in and tight recall (of ``after``), one PNG each (drawn by the report's
+    :func:`picture`)."""
     from report import picture
 
     from core import read_sketch
 
     ok = {k: v for k, v in after.items() if not k.startswith("_") and "error" not in v}
     chosen: dict[str, str] = {}
-    for m in ("doubled", "ink_kept", "per_in"):
-        ranked = sorted(ok, key=lambda k: ok[k][m], reverse=not HIGHER_IS_BETTER[m])
+    for m in ("doubled", "ink_kept", "per_in", "tight_recall"):
+        ranked = sorted((k for k in ok if m in ok[k]), key=lambda k: ok[k][m],
+                        reverse=not HIGHER_IS_BETTER[m])
         for k in ranked[:5]:
             chosen.setdefault(k, m)
     out_dir.mkdir(parents=True, exist_ok=True)
