@@ -372,6 +372,15 @@ def split_at_tips(chains: list[Edge], d_eps: float, memo: StrokeMemo) -> list[Ed
     return out
 
 
+def _smoothed(pts: np.ndarray, closed: bool, params: SimplifyParams) -> np.ndarray:
+    """A line sampled every d_eps / 4, smoothed between its corners by ``params.smoothing``
+    d_eps (a sigma of 4 * smoothing samples)."""
+    if params.smoothing <= 0:
+        return pts
+    corners = corner_indices(pts, params.corner_angle, params.alpha)
+    return smooth_between_corners(pts, 4 * params.smoothing, corners, closed)
+
+
 def to_strokes(state: ComplexState, params: SimplifyParams,
                memo: StrokeMemo) -> list[FittedStroke]:
     """Output strokes (unit frame) of a simplified complex.
@@ -394,15 +403,15 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
         pts = resample_polyline(stroke.points, d_eps / 4)
-        if params.smoothing > 0:  # 4 samples a d_eps: sigma in samples
-            corners = corner_indices(pts, params.corner_angle, d_eps)
-            pts = smooth_between_corners(pts, 4 * params.smoothing, corners, stroke.closed)
         strokes.append((shape_key(pts, stroke.closed), pts, stroke.closed))
+    # a fit is kept by the line before smoothing (smoothing depends on it and the params
+    # alone): a replay smooths and fits only the lines it has not seen
     fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
     if todo:  # fitted together
-        made = fit_beziers([pts for _, (pts, _) in todo], params.fit_error * d_eps,
-                           params.corner_angle, [closed for _, (_, closed) in todo])
+        made = fit_beziers([_smoothed(pts, closed, params) for _, (pts, closed) in todo],
+                           params.fit_error * d_eps, params.corner_angle,
+                           [closed for _, (_, closed) in todo])
         for (key, _), bezier in zip(todo, made):
             fits[key] = (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT))
             memo.fits.put(key, fits[key])
