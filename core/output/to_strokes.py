@@ -222,18 +222,17 @@ def _bridge_gaps(graph: StrokeGraph, link: np.ndarray, directions: np.ndarray, g
                  cos_join: float) -> None:
     """Link free ends (their node has no other edge, no link yet) within ``gap`` of each
     other that continue each other, nearest first."""
-    degree = graph.degree()
-    free = np.flatnonzero((degree[graph.ends.ravel()] == 1) & (link < 0))
+    at = graph.nodes[graph.ends.ravel()]  # where each end is
+    free = np.flatnonzero((graph.degree()[graph.ends.ravel()] == 1) & (link < 0))
     if len(free) < 2:
         return
-    where = graph.nodes[graph.ends.ravel()[free]]
-    tree = shapely.STRtree(shapely.points(where))
-    x, y = tree.query(shapely.points(where), predicate="dwithin", distance=gap)
+    points = shapely.points(at[free])
+    x, y = shapely.STRtree(points).query(points, predicate="dwithin", distance=gap)
     keep = (x < y) & (free[x] >> 1 != free[y] >> 1)
     x, y = free[x[keep]], free[y[keep]]
     smooth = -(directions[x] * directions[y]).sum(axis=1) >= cos_join
     x, y = x[smooth], y[smooth]
-    dist = np.hypot(*(graph.nodes[graph.ends.ravel()[x]] - graph.nodes[graph.ends.ravel()[y]]).T)
+    dist = np.hypot(*(at[x] - at[y]).T)
     for k in np.lexsort((y, x, dist)).tolist():
         a, b = int(x[k]), int(y[k])
         if link[a] < 0 and link[b] < 0:
