@@ -77,7 +77,8 @@ def shape_key(points: np.ndarray, closed: bool = False) -> bytes:
 class StrokeMemo:
     """The output stage's stores, shared by a result and every replay of it."""
 
-    #: Bezier fit of a resampled output stroke (shape_key): control points and the
+    #: Bezier fit of a resampled output stroke (shape_key of it before smoothing; the
+    #: smoothing depends on it and the result's params alone): control points and the
     #: polyline sampled from them
     fits: LruStore[bytes, tuple[np.ndarray, np.ndarray]] = field(default_factory=LruStore)
     #: an edge sampled for pairing (its bytes): :class:`core.merge.curve_merge.SampledCurve`
