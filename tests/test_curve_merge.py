@@ -55,6 +55,32 @@ def test_a_stroke_carried_on_pairs_end_to_end_unless_only_sides_are_asked():
     assert pair_and_merge(a, 1.0, b, 1.0, D_EPS, ANGLE, sides_only=True) == (None, None)
 
 
+def test_a_stroke_drawn_on_over_the_end_of_the_last_pairs_as_an_overlap():
+    """The second stroke starts beside the first, 0.05 before its end (a fifth of the
+    shorter: neither side by side nor end to end), and carries on: one curve, the middle
+    of the two over the overlap."""
+    a = _line(0, 0, 0.3, 0)
+    b = _line(0.25, 0.004, 0.5, 0.004)
+    how, merged = pair_and_merge(a, 1.0, b, 1.0, D_EPS, ANGLE)
+    assert how == "overlap"
+    assert merged[:, 0].min() == pytest.approx(0) and merged[:, 0].max() == pytest.approx(0.5)
+    middle = (merged[:, 0] > 0.27) & (merged[:, 0] < 0.28)
+    assert np.allclose(merged[middle, 1], 0.002, atol=2e-4)
+    assert pair_and_merge(a, 1.0, b, 1.0, D_EPS, ANGLE, sides_only=True) == (None, None)
+
+
+def test_overlaps_that_are_crossings_branches_or_touches_do_not_pair():
+    a = _line(0, 0, 0.3, 0)
+    touch = _line(0.295, 0.004, 0.5, 0.004)  # beside it for less than d_eps: not an overlap
+    assert pair_and_merge(a, 1.0, touch, 1.0, D_EPS, ANGLE)[0] != "overlap"
+    # runs beside it, then leaves at 45 degrees before its end: a branch
+    branch = _curve([[0.1, 0.004], [0.2, 0.004], [0.35, 0.154]])
+    assert pair_and_merge(a, 1.0, branch, 1.0, D_EPS, ANGLE) == (None, None)
+    # beside its end, then turning back over it: a hook, not a stroke carried on
+    hook = _curve([[0.25, 0.004], [0.4, 0.004], [0.4, 0.1], [0.2, 0.1]])
+    assert pair_and_merge(a, 1.0, hook, 1.0, D_EPS, ANGLE) == (None, None)
+
+
 def _assorted_curves() -> list[SampledCurve]:
     """Strokes of a rough bundle, their reversals, crossings, continuations and crumbs."""
     curves = [_line(0, 0.004 * k, 0.3 + 0.01 * k, 0.004 * k, wobble=0.001, seed=k)
@@ -76,7 +102,7 @@ def test_many_pairs_at_once_are_each_pair_on_its_own(sides_only):
     together = pair_and_merge_many(pairs, D_EPS, ANGLE, sides_only)
     alone = [pair_and_merge(*p, D_EPS, ANGLE, sides_only) for p in pairs]
     kinds = {how for how, _ in alone}
-    assert kinds == ({None, "side"} if sides_only else {None, "side", "end"})
+    assert kinds == ({None, "side"} if sides_only else {None, "side", "overlap", "end"})
     for (how, merged), (how1, merged1) in zip(together, alone):
         assert how == how1
         if how is not None:

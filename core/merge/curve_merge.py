@@ -6,6 +6,12 @@ when they run side by side or continue each other:
 * side by side: most of the shorter curve lies within d_eps of the longer one and their
   tangents there differ by less than d_theta (checked along the whole overlap, not at the
   single closest pair of points, which a narrow V shape would pass);
+* overlapping (beyond the paper): the shorter runs beside the longer at one of its ends,
+  for at least d_eps, then carries on past that end: a stroke drawn on from where the last
+  one ended, a little over it. Neither side by side (too little of it alongside) nor end to
+  end (its end lies beside the other's middle), such a pair was left doubled over the
+  overlap: on the 101 dev sketches, doubled ink 0.123 -> 0.117 (median), strokes per
+  intended curve 1.100 -> 1.069, tight recall unchanged (0.828);
 * end to end: an end of one lies within d_eps of an end of the other and the second
   carries on in the direction the first was heading.
 
@@ -171,6 +177,41 @@ def _side_by_side(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: 
     return side, split(s, sizes)
 
 
+def _staggered(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: float,
+               cos_max: float) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Whether each short curve carries on from an end of its long one after running beside
+    it for a while (a stroke drawn on from where the last one ended, overlapping it): the
+    short curve's points within d_eps of the long one are one run at one of its ends, at
+    least d_eps long, their tangents within the angle, and the rest of it lies past one end
+    of the long curve. Returns that, and the short curves' parameters along the long ones."""
+    s, dist, which, bases_ = _project(longs, shorts)
+    sizes = np.bincount(which, minlength=len(shorts))
+    ok = np.zeros(len(shorts), dtype=bool)
+    long_tangents = np.concatenate([c.tangents for c in longs])
+    for k, (s_k, d_k, short, long_) in enumerate(zip(split(s, sizes), split(dist, sizes),
+                                                    shorts, longs)):
+        near = d_k <= d_eps
+        n = len(near)
+        run = int(np.argmin(near)) if not near.all() else n  # leading near points
+        if run == 0:  # the near run, if any, is at the other end
+            near, s_k, pts_s, tan_s = near[::-1], s_k[::-1], short.s[-1] - short.s[::-1], \
+                -short.tangents[::-1]
+            run = int(np.argmin(near)) if not near.all() else n
+        else:
+            pts_s, tan_s = short.s, short.tangents
+        if run == 0 or run == n or near[run:].any() or pts_s[run - 1] < d_eps:
+            continue
+        far = s_k[run:]
+        if not ((far > long_.length).all() or (far < 0).all()):
+            continue
+        if np.any(np.diff(s_k) * np.sign(far[0] - s_k[0]) < -d_eps / 4):
+            continue  # turns back on itself
+        idx = bases_.index(np.full(run, k), np.clip(s_k[:run], 0, long_.length))
+        cos = np.abs((tan_s[:run] * long_tangents[idx]).sum(axis=1))
+        ok[k] = np.median(cos) >= cos_max
+    return ok, split(s, sizes)
+
+
 def _blend(pairs: list[tuple[SampledCurve, float, SampledCurve, float, np.ndarray]],
            d_eps: float) -> list[np.ndarray]:
     """The merged polyline of each (long, its weight, short, its weight, the short's
@@ -240,7 +281,7 @@ def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledC
 def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, float]],
                         d_eps: float, max_angle_deg: float, sides_only: bool = False
                         ) -> list[tuple[str | None, np.ndarray | None]]:
-    """How each pair of weighted curves pairs ('side', 'end' or None) and, if it does,
+    """How each pair of weighted curves pairs ('side', 'overlap', 'end' or None) and, if it does,
     their merged polyline.
 
     The merged polyline keeps within d_eps of both curves, or the pair is refused. The
@@ -254,6 +295,7 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
     live = [k for k, (a, _, b, _) in enumerate(pairs) if not _straight_and_askew(a, b, cos_max)]
     # a few points first: most candidate pairs only touch at a node and are refused here
     along: dict[int, np.ndarray] = {}  # the short curve's parameters along the long one
+    end_probed: list[int] = []  # pairs where an end of the short curve lies by the long one
     if live:
         probes = np.concatenate([ordered[k][2].point_geoms[_probe_index(
             len(ordered[k][2].points))] for k in live])
@@ -261,6 +303,8 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
         near = shapely.dwithin(probes, np.repeat(lines, 9), d_eps).reshape(-1, 9)
         probed = [k for k, hits in zip(live, np.count_nonzero(near, axis=1).tolist())
                   if hits / 9 >= MIN_OVERLAP - 0.2]
+        end_probed = [k for k, row in zip(live, near.tolist())
+                      if (row[0] or row[-1]) and sum(row) >= 2]
         if probed:
             side, s = _side_by_side([ordered[k][0] for k in probed],
                                     [ordered[k][2] for k in probed], d_eps, cos_max)
@@ -268,6 +312,13 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
                 along[k] = s_k
                 how[k] = "side" if beside else None
     if not sides_only:
+        tails = [k for k in end_probed if how[k] is None]
+        if tails:
+            stag, s = _staggered([ordered[k][0] for k in tails],
+                                 [ordered[k][2] for k in tails], d_eps, cos_max)
+            for k, yes, s_k in zip(tails, stag.tolist(), s):
+                if yes:
+                    how[k], along[k] = "overlap", s_k
         ends = [k for k in live if how[k] is None
                 and _continues(pairs[k][0], pairs[k][2], d_eps, cos_max)]
         fresh = [k for k in ends if k not in along]
