@@ -279,10 +279,10 @@ def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledC
 
 
 def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, float]],
-                        d_eps: float, max_angle_deg: float, sides_only: bool = False
+                        d_eps: float, max_angle_deg: float, end_to_end: bool = True
                         ) -> list[tuple[str | None, np.ndarray | None]]:
-    """How each pair of weighted curves pairs ('side', 'overlap', 'end' or None) and, if it does,
-    their merged polyline.
+    """How each pair of weighted curves pairs ('side', 'overlap', 'end' or None; no 'end'
+    unless ``end_to_end``) and, if it does, their merged polyline.
 
     The merged polyline keeps within d_eps of both curves, or the pair is refused. The
     pairs are worked out together, a step at a time for all (the merge loop costs hundreds
@@ -311,14 +311,14 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
             for k, beside, s_k in zip(probed, side.tolist(), s):
                 along[k] = s_k
                 how[k] = "side" if beside else None
-    if not sides_only:
-        tails = [k for k in end_probed if how[k] is None]
-        if tails:
-            stag, s = _staggered([ordered[k][0] for k in tails],
-                                 [ordered[k][2] for k in tails], d_eps, cos_max)
-            for k, yes, s_k in zip(tails, stag.tolist(), s):
-                if yes:
-                    how[k], along[k] = "overlap", s_k
+    tails = [k for k in end_probed if how[k] is None]
+    if tails:
+        stag, s = _staggered([ordered[k][0] for k in tails],
+                             [ordered[k][2] for k in tails], d_eps, cos_max)
+        for k, yes, s_k in zip(tails, stag.tolist(), s):
+            if yes:
+                how[k], along[k] = "overlap", s_k
+    if end_to_end:
         ends = [k for k in live if how[k] is None
                 and _continues(pairs[k][0], pairs[k][2], d_eps, cos_max)]
         fresh = [k for k in ends if k not in along]
@@ -344,7 +344,7 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
 
 
 def pair_and_merge(a: SampledCurve, wa: float, b: SampledCurve, wb: float, d_eps: float,
-                   max_angle_deg: float, sides_only: bool = False
+                   max_angle_deg: float, end_to_end: bool = True
                    ) -> tuple[str | None, np.ndarray | None]:
     """:func:`pair_and_merge_many` of one pair."""
-    return pair_and_merge_many([(a, wa, b, wb)], d_eps, max_angle_deg, sides_only)[0]
+    return pair_and_merge_many([(a, wa, b, wb)], d_eps, max_angle_deg, end_to_end)[0]

@@ -3,11 +3,15 @@ two long sides of a slender border patch, or a free curve along an outline) are 
 the curve-curve operator again, while a merge costs less than epsilon.
 
 Candidate pairs (boxes within d_eps; not two free curves, which agglomeration has judged;
-with most of five points of the shorter edge within d_eps of the longer) are swept closest
+with most of five points of the shorter edge within d_eps of the longer, or an end of it:
+the edges that overlap, one carried on past the other's end) are swept closest
 first, by the mean distance of those points. Each candidate stands for whatever its edges
 have been merged into by then; a pair already merged into one is skipped, and every pair
 of current edges is judged once: paired and merged by :func:`pair_and_merge_many`, costed
-as min(d(A, M), d(B, M)), and merged if it pairs and costs less than epsilon. Costed
+as min(d(A, M), d(B, M)), and merged if it pairs (side by side or overlapping; joins end
+to end are the stroke graph's) and costs less than epsilon. Taking the overlaps too took
+doubled ink 0.117 -> 0.112 and strokes per intended curve 1.069 -> 1.045 on the 101 dev
+sketches (medians; tight recall unchanged). Costed
 lazily this way, a dense cluster of k overlapping edges costs about k merges, not the k * k
 pairs among them.
 
@@ -118,7 +122,7 @@ class BiEdgePass:
         self._sample([k for pair in pairs for k in pair])
         found = pair_and_merge_many(
             [(self._curves[a], self.weights[a], self._curves[b], self.weights[b])
-             for a, b in pairs], self.d_eps, self.params.angle, sides_only=True)
+             for a, b in pairs], self.d_eps, self.params.angle, end_to_end=False)
         merged = [m for _, m in found if m is not None]
         parts = list(dict.fromkeys(
             k for (a, b), (_, m) in zip(pairs, found) if m is not None for k in (a, b)
@@ -238,5 +242,7 @@ def _beside(lines: np.ndarray, i: np.ndarray, j: np.ndarray, d_eps: float,
         short, long_ = np.where(first_shorter, a, b), np.where(first_shorter, b, a)
         dist = shapely.distance(probes[short], lines[long_][:, None])
         closeness[k:k + chunk] = dist.mean(axis=1)
-        beside[k:k + chunk] = (dist <= d_eps).mean(axis=1) >= 0.4
+        near = dist <= d_eps
+        # along it, or an end beside it (an overlap, where one carries on past the other)
+        beside[k:k + chunk] = (near.mean(axis=1) >= 0.4) | near[:, 0] | near[:, 4]
     return closeness, beside
