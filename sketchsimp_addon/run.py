@@ -55,10 +55,16 @@ class RunReport:
     seconds: float = 0.0
     skipped: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    #: the bundle width each drawing was simplified with, in its layer's units (d_eps)
+    widths: list[float] = field(default_factory=list)
 
     def message(self) -> str:
         text = (f"Simplified {self.drawings} drawing(s): {self.strokes_in} strokes -> "
                 f"{self.strokes_out} in {self.seconds:.2f} s")
+        if self.widths:
+            low, high = min(self.widths), max(self.widths)
+            text += (f", bundle width {low:.3g}" if f"{low:.3g}" == f"{high:.3g}" else
+                     f", bundle width {low:.3g} to {high:.3g}")
         if self.skipped:
             text += "; skipped " + ", ".join(self.skipped)
         if self.notes:
@@ -103,12 +109,13 @@ def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewSt
     data = drawing_from_polylines(polylines, closed)
     plane = drawing_plane(data.positions)
     try:
-        new = to_new_strokes(simplify(to_sketch(data, list(range(data.num_strokes)), plane),
-                                      params).strokes, data, plane)
+        result = simplify(to_sketch(data, list(range(data.num_strokes)), plane), params)
     except SketchError as exc:
         report.skipped.append(f"'{obj.name}' ({exc})")
         return report, None
+    new = to_new_strokes(result.strokes, data, plane)
     report.drawings, report.strokes_in, report.strokes_out = 1, len(polylines), len(new.knots)
+    report.widths.append(result.params.alpha * result.normalisation.scale)
     report.seconds = time.perf_counter() - t0
     return report, new
 
@@ -306,6 +313,7 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
         report.drawings += 1
         report.strokes_in += len(p.chosen)
         report.strokes_out += len(out.strokes)
+        report.widths.append(out.width)
     if options.fill_regions and options.as_curve:
         report.notes.append("no fills on curve objects")
     if held:

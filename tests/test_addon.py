@@ -83,7 +83,12 @@ def test_current_frame_to_a_new_layer_leaves_the_source_untouched():
     curve = evaluated(out)
     np.testing.assert_allclose(curve[:, 1], 0.0, atol=1e-5)
     assert shapely.distance(shapely.points(curve[:, [0, 2]]), ink).max() < 6 * SCALE
-    assert bpy.context.scene.sketchsimp.last_run.startswith("Simplified 1 drawing")
+    last_run = bpy.context.scene.sketchsimp.last_run
+    assert last_run.startswith("Simplified 1 drawing")
+    # the panel and the report give the bundle width used: 1.2% of the drawing's diagonal
+    width = float(last_run.split("bundle width ")[1].split()[0].rstrip(",;"))
+    house = np.concatenate(sample_points("house"))[:, [0, 2]]
+    assert width == pytest.approx(0.012 * np.hypot(*np.ptp(house, axis=0)), rel=0.01)
 
 
 def test_all_keyframes_and_a_shared_drawing():
