@@ -16,6 +16,7 @@ from .io.cleaning import (
     CleaningReport,
     Normalisation,
     clean_sketch,
+    drawing_strokes,
     normalised_strokes,
 )
 from .merge.agglomeration import AgglomerationStats, agglomerate
@@ -145,7 +146,7 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     t0 = time.perf_counter()
     cleaned, report = clean_sketch(sketch)
     unit, norm = normalised_strokes(cleaned)
-    params = params.resolved(unit)  # "auto" alpha follows the strokes
+    params = params.resolved(drawing_strokes(unit))  # "auto" alpha follows the ink
     t1 = time.perf_counter()
     if params.max_curves is not None:
         crossings = more_crossings_than(unit, params.max_curves // 2)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
-from ..core import EPSILON_SOFT_MAX, PAPER_ALPHA, SimplifyParams
+from ..core import EPSILON_SOFT_MAX, SimplifyParams
 
 __all__ = ["DEFAULTS", "LAYER_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS", "SimplifyOptions"]
 
@@ -58,10 +58,11 @@ class SimplifyOptions:
                            description="Write the result as a Bezier curve object (one per "
                            "layer, from the first drawing simplified) instead of strokes")
     alpha: FloatProperty(
-        name="Bundle Width", default=PAPER_ALPHA, min=0.001, max=0.2, precision=3,
+        name="Bundle Width", default=0.0, min=0.0, max=0.2, precision=3,
         description="Width of a bundle of rough strokes as a fraction of the drawing's size "
         "(a stray mark far away on the layer does not count): strokes closer than this may "
-        "merge (alpha)")
+        "merge (alpha). 0: auto, measured from the ink (the paper's 0.012 where strokes are "
+        "dense, up to 0.015 where they lie far apart for the drawing's size)")
     samples: IntProperty(name="Shape Samples", default=DEFAULTS.samples, min=8, max=2048,
                          description="Points used to compare shapes (Fourier descriptor N); "
                          "more is finer and slower")
@@ -81,7 +82,7 @@ class SimplifyOptions:
                              "this many bundle widths, so that it shows no steps (0: none)")
 
     def params(self) -> SimplifyParams:
-        return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha,
+        return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha or "auto",
                               samples=self.samples - self.samples % 2, angle=self.angle,
                               beta=self.beta, join_angle=self.join_angle,
                               corner_angle=self.corner_angle, smoothing=self.smoothing)

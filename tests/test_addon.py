@@ -85,10 +85,17 @@ def test_current_frame_to_a_new_layer_leaves_the_source_untouched():
     assert shapely.distance(shapely.points(curve[:, [0, 2]]), ink).max() < 6 * SCALE
     last_run = bpy.context.scene.sketchsimp.last_run
     assert last_run.startswith("Simplified 1 drawing")
-    # the panel and the report give the bundle width used: 1.2% of the drawing's diagonal
-    width = float(last_run.split("bundle width ")[1].split()[0].rstrip(",;"))
-    house = np.concatenate(sample_points("house"))[:, [0, 2]]
-    assert width == pytest.approx(0.012 * np.hypot(*np.ptp(house, axis=0)), rel=0.01)
+    # the panel and the report give the bundle width used: auto (Bundle Width 0), which
+    # for the house's sparse ink is the widest, 1.5% of the drawing's diagonal
+    def reported_width() -> float:
+        text = bpy.context.scene.sketchsimp.last_run
+        return float(text.split("bundle width ")[1].split()[0].rstrip(",;"))
+
+    diagonal = np.hypot(*np.ptp(np.concatenate(sample_points("house"))[:, [0, 2]], axis=0))
+    assert reported_width() == pytest.approx(0.015 * diagonal, rel=0.01)
+    source.hide = False  # to simplify it again
+    assert bpy.ops.sketchsimp.simplify(alpha=0.02) == {"FINISHED"}  # a number overrides
+    assert reported_width() == pytest.approx(0.02 * diagonal, rel=0.01)
 
 
 def test_all_keyframes_and_a_shared_drawing():

@@ -10,7 +10,8 @@ import numpy as np
 from ..sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "REACH", "clean_sketch", "clean_stroke", "CleaningReport", "drawing_box", "Normalisation",
+    "REACH", "clean_sketch", "clean_stroke", "CleaningReport", "drawing_box", "drawing_strokes",
+    "Normalisation",
     "normalised_strokes",
 ]
 
@@ -160,3 +161,20 @@ def drawing_box(strokes: list[np.ndarray]) -> np.ndarray:
         member |= near
         region = np.concatenate([boxes[member, :2].min(axis=0), boxes[member, 2:].max(axis=0)])
     return region
+
+
+def drawing_strokes(unit_strokes: list[np.ndarray]) -> list[np.ndarray]:
+    """The strokes of the drawing (:func:`drawing_box`) in the unit frame: ink far away
+    left out, so that what is measured of the drawing's ink (its spacing, its strokes'
+    lengths) is the drawing's alone.
+
+    >>> t = np.linspace(0, 1, 50)[:, None]
+    >>> cross = [np.hstack([t, t]), np.hstack([t, 1 - t])]
+    >>> len(drawing_strokes(cross + [np.array([[30., 30], [30.1, 30]])]))
+    2
+    """
+    x0, y0, x1, y1 = drawing_box(unit_strokes).tolist()
+    tol = 1e-9 * max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
+    return [u for u in unit_strokes
+            if u[:, 0].min() >= x0 - tol and u[:, 0].max() <= x1 + tol
+            and u[:, 1].min() >= y0 - tol and u[:, 1].max() <= y1 + tol]

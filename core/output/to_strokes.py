@@ -335,16 +335,40 @@ def close_loops(strokes: list[Edge], d_eps: float) -> list[Edge]:
         heading_in = pts[-1] - pts[-2]
         turned = heading_out @ heading_in <= 0.5 * np.hypot(*heading_out) * np.hypot(*heading_in)
         if gaps.min() > d_eps or s[-1] < 8 * d_eps or k == 0 or turned:
-            out.append(e)
+            out.append(_closed_past_its_start(e, s, d_eps))
             continue
         loop = pts[k:].copy()
         cut = shapely.distance(shapely.points(pts[:k]), shapely.LineString(loop))
         if cut.max() > d_eps:  # the stretch cut off is not run over again: no loop
-            out.append(e)
+            out.append(_closed_past_its_start(e, s, d_eps))
             continue
         loop[-1] = loop[0]
         out.append(replace(e, points=loop, closed=True))
     return out
+
+
+def _closed_past_its_start(e: Edge, s: np.ndarray, d_eps: float) -> Edge:
+    """The stroke closed where it passes its own start, when its two ends overshoot each
+    other (a corner drawn past, as overshoots are): a point of its last SPUR_LENGTH d_eps
+    within d_eps of a point of its first; of those pairs, the one that cuts the least ink
+    off the two ends. Else the stroke as it is. (Without this, a rough square whose sides
+    overshoot its corners by 1 to 3% of D came out as one open stroke, an overshoot
+    hanging off a corner, at widths of 1.3% of D and more.)"""
+    pts = e.points
+    reach = SPUR_LENGTH * d_eps
+    if s[-1] < 8 * d_eps:
+        return e
+    head = np.flatnonzero(s <= reach)
+    tail = np.flatnonzero(s >= s[-1] - reach)
+    gaps = np.hypot(*(pts[head][:, None, :] - pts[tail][None, :, :]).transpose(2, 0, 1))
+    cut = s[head][:, None] + (s[-1] - s[tail])[None, :]
+    cut = np.where(gaps <= d_eps, cut, np.inf)
+    i, j = np.unravel_index(int(np.argmin(cut)), cut.shape)
+    if not np.isfinite(cut[i, j]):
+        return e
+    loop = pts[head[i]:tail[j] + 1].copy()
+    loop[-1] = loop[0]
+    return replace(e, points=loop, closed=True)
 
 
 #: turns sharper than this, in degrees, are the tips of slender border patches
