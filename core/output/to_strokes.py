@@ -317,7 +317,9 @@ def close_loops(strokes: list[Edge], d_eps: float) -> list[Edge]:
     that come back over their own start: the last point within
     d_eps of the first stretch, heading the way the stroke set out there (a loop drawn in
     pieces that overlap where they meet). The overlap is cut: the loop starts where the
-    last point lies beside the first stretch, and ends there."""
+    last point lies beside the first stretch, and ends there. Failing both, a stroke whose
+    ends overshoot each other closes where it passes its own start
+    (:func:`_closed_past_its_start`)."""
     out = []
     for e in strokes:
         pts = e.points
