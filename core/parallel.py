@@ -44,7 +44,7 @@ class Simplified:
 def simplified(result, regions: bool) -> Simplified:
     """The plain data of a result that crosses back to the caller."""
     return Simplified(result.strokes, result.fill_regions() if regions else [],
-                      result.params.alpha * result.normalisation.scale)
+                      result.bundle_width)
 
 
 def _simplify_one(args: tuple[Sketch, SimplifyParams, bool]) -> Simplified | SketchError:

@@ -49,6 +49,11 @@ class SimplifyResult:
     _ink: NearestInk | None = field(default=None, repr=False)
     _memo: StrokeMemo = field(default_factory=StrokeMemo, repr=False)  # shared by .at()
 
+    @property
+    def bundle_width(self) -> float:
+        """The bundle width used, d_eps = alpha * D, in the sketch's own units."""
+        return self.params.alpha * self.normalisation.scale
+
     def to_sketch(self) -> Sketch:
         src = self._input
         return Sketch(list(self.strokes), src.width if src else None,

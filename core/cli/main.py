@@ -102,7 +102,7 @@ def run_simplify(args: argparse.Namespace) -> int:
     if args.stats:
         stats = {"input": str(args.input), "output": str(out),
                  "params": result.params.as_dict(),  # alpha as resolved: the width used
-                 "bundle_width": result.params.alpha * result.normalisation.scale,
+                 "bundle_width": result.bundle_width,
                  "counts": result.counts, "cleaning": result.cleaning.as_dict(),
                  "merges": len(result.history),
                  "timings": {k: round(v, 6) for k, v in result.timings.items()}}
