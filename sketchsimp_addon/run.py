@@ -115,7 +115,7 @@ def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewSt
         return report, None
     new = to_new_strokes(result.strokes, data, plane)
     report.drawings, report.strokes_in, report.strokes_out = 1, len(polylines), len(new.knots)
-    report.widths.append(result.params.alpha * result.normalisation.scale)
+    report.widths.append(result.bundle_width)
     report.seconds = time.perf_counter() - t0
     return report, new
 
@@ -291,6 +291,12 @@ def gather_drawings(obj, options, frame_number: int, report: RunReport,
     return Gathered(prepared, empty, held)
 
 
+def _fills_wanted(options) -> bool:
+    """Whether the run computes fill regions: asked for, and not for a curve object (which
+    takes no fills)."""
+    return bool(options.fill_regions and not options.as_curve)
+
+
 def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport
                ) -> list[DrawingResult]:
     """The new strokes of each drawing whose output is in ``outputs`` (the first
@@ -298,7 +304,7 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
     and the empty keyframes to keep; counts and skips go to ``report``."""
     prepared = gathered.prepared[:len(outputs)]
     empty, held = gathered.empty, gathered.held
-    fills = options.fill_regions and not options.as_curve
+    fills = _fills_wanted(options)
     if options.stable and options.scope in ("ALL", "RANGE"):
         outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
@@ -352,7 +358,7 @@ class StepwiseRun:
         self.report = RunReport()
         self.t0 = time.perf_counter()
         self.gathered = gather_drawings(obj, options, frame_number, self.report, frame_range)
-        self.fills = options.fill_regions and not options.as_curve
+        self.fills = _fills_wanted(options)
         self.outputs: list = []
 
     @property
@@ -397,7 +403,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     prepared = gathered.prepared
     if jobs is None:
         jobs = default_jobs() if len(prepared) >= POOL_FROM else 1
-    fills = options.fill_regions and not options.as_curve
+    fills = _fills_wanted(options)
     if engine is not None:
         outputs = engine([p.sketch for p in prepared], fills)
     elif jobs == 1:  # here, through the replay cache: the redo panel's slider replays
