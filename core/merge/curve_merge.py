@@ -188,18 +188,18 @@ def _staggered(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: flo
     sizes = np.bincount(which, minlength=len(shorts))
     ok = np.zeros(len(shorts), dtype=bool)
     long_tangents = np.concatenate([c.tangents for c in longs])
+    def leading(near: np.ndarray) -> int:
+        """How many points at the start are near."""
+        return len(near) if near.all() else int(np.argmin(near))
+
     for k, (s_k, d_k, short, long_) in enumerate(zip(split(s, sizes), split(dist, sizes),
                                                     shorts, longs)):
-        near = d_k <= d_eps
-        n = len(near)
-        run = int(np.argmin(near)) if not near.all() else n  # leading near points
-        if run == 0:  # the near run, if any, is at the other end
-            near, s_k, pts_s, tan_s = near[::-1], s_k[::-1], short.s[-1] - short.s[::-1], \
-                -short.tangents[::-1]
-            run = int(np.argmin(near)) if not near.all() else n
-        else:
-            pts_s, tan_s = short.s, short.tangents
-        if run == 0 or run == n or near[run:].any() or pts_s[run - 1] < d_eps:
+        near, arc, tan_s = d_k <= d_eps, short.s, short.tangents
+        run = leading(near)
+        if run == 0:  # the near run, if any, is at the other end: walk the short one back
+            near, s_k, arc, tan_s = near[::-1], s_k[::-1], arc[-1] - arc[::-1], -tan_s[::-1]
+            run = leading(near)
+        if run == 0 or run == len(near) or near[run:].any() or arc[run - 1] < d_eps:
             continue
         far = s_k[run:]
         if not ((far > long_.length).all() or (far < 0).all()):

@@ -314,12 +314,8 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
 
 def close_loops(strokes: list[Edge], d_eps: float) -> list[Edge]:
     """Close the open strokes that end where they began (both ends on one node), and those
-    that come back over their own start: the last point within
-    d_eps of the first stretch, heading the way the stroke set out there (a loop drawn in
-    pieces that overlap where they meet). The overlap is cut: the loop starts where the
-    last point lies beside the first stretch, and ends there. Failing both, a stroke whose
-    ends overshoot each other closes where it passes its own start
-    (:func:`_closed_past_its_start`)."""
+    that come back over their own start (:func:`_run_over_its_start`) or, failing that,
+    whose ends overshoot each other (:func:`_past_its_start`)."""
     out = []
     for e in strokes:
         pts = e.points
@@ -330,36 +326,47 @@ def close_loops(strokes: list[Edge], d_eps: float) -> list[Edge]:
             out.append(replace(e, closed=True))
             continue
         s = arc_lengths(pts)
-        first = np.flatnonzero(s <= s[-1] / 3)  # the first third: the stroke's own start
-        gaps = np.hypot(*(pts[first] - pts[-1]).T)
-        k = int(first[np.argmin(gaps)])
-        heading_out = pts[min(k + 1, len(pts) - 1)] - pts[max(k - 1, 0)]
-        heading_in = pts[-1] - pts[-2]
-        turned = heading_out @ heading_in <= 0.5 * np.hypot(*heading_out) * np.hypot(*heading_in)
-        if gaps.min() > d_eps or s[-1] < 8 * d_eps or k == 0 or turned:
-            out.append(_closed_past_its_start(e, s, d_eps))
-            continue
-        loop = pts[k:].copy()
-        cut = shapely.distance(shapely.points(pts[:k]), shapely.LineString(loop))
-        if cut.max() > d_eps:  # the stretch cut off is not run over again: no loop
-            out.append(_closed_past_its_start(e, s, d_eps))
+        loop = None
+        if s[-1] >= 8 * d_eps:
+            loop = _run_over_its_start(pts, s, d_eps)
+            if loop is None:
+                loop = _past_its_start(pts, s, d_eps)
+        if loop is None:
+            out.append(e)
             continue
         loop[-1] = loop[0]
         out.append(replace(e, points=loop, closed=True))
     return out
 
 
-def _closed_past_its_start(e: Edge, s: np.ndarray, d_eps: float) -> Edge:
-    """The stroke closed where it passes its own start, when its two ends overshoot each
-    other (a corner drawn past, as overshoots are): a point of its last SPUR_LENGTH d_eps
-    within d_eps of a point of its first; of those pairs, the one that cuts the least ink
-    off the two ends. Else the stroke as it is. (Without this, a rough square whose sides
-    overshoot its corners by 1 to 3% of D came out as one open stroke, an overshoot
+def _run_over_its_start(pts: np.ndarray, s: np.ndarray, d_eps: float) -> np.ndarray | None:
+    """The loop of a stroke that comes back over its own start: the last point within
+    d_eps of the first stretch, heading the way the stroke set out there (a loop drawn in
+    pieces that overlap where they meet). The overlap is cut: the loop starts where the
+    last point lies beside the first stretch. None when the stroke does not."""
+    first = np.flatnonzero(s <= s[-1] / 3)  # the first third: the stroke's own start
+    gaps = np.hypot(*(pts[first] - pts[-1]).T)
+    k = int(first[np.argmin(gaps)])
+    heading_out = pts[min(k + 1, len(pts) - 1)] - pts[max(k - 1, 0)]
+    heading_in = pts[-1] - pts[-2]
+    turned = heading_out @ heading_in <= 0.5 * np.hypot(*heading_out) * np.hypot(*heading_in)
+    if gaps.min() > d_eps or k == 0 or turned:
+        return None
+    loop = pts[k:].copy()
+    cut = shapely.distance(shapely.points(pts[:k]), shapely.LineString(loop))
+    if cut.max() > d_eps:  # the stretch cut off is not run over again: no loop
+        return None
+    return loop
+
+
+def _past_its_start(pts: np.ndarray, s: np.ndarray, d_eps: float) -> np.ndarray | None:
+    """The loop of a stroke whose two ends overshoot each other (a corner drawn past, as
+    overshoots are), closed where it passes its own start: a point of its last SPUR_LENGTH
+    d_eps within d_eps of a point of its first; of those pairs, the one that cuts the least
+    ink off the two ends. None when there is none. (Without this, a rough square whose
+    sides overshoot its corners by 1 to 3% of D came out as one open stroke, an overshoot
     hanging off a corner, at widths of 1.3% of D and more.)"""
-    pts = e.points
     reach = SPUR_LENGTH * d_eps
-    if s[-1] < 8 * d_eps:
-        return e
     head = np.flatnonzero(s <= reach)
     tail = np.flatnonzero(s >= s[-1] - reach)
     gaps = np.hypot(*(pts[head][:, None, :] - pts[tail][None, :, :]).transpose(2, 0, 1))
@@ -367,10 +374,8 @@ def _closed_past_its_start(e: Edge, s: np.ndarray, d_eps: float) -> Edge:
     cut = np.where(gaps <= d_eps, cut, np.inf)
     i, j = np.unravel_index(int(np.argmin(cut)), cut.shape)
     if not np.isfinite(cut[i, j]):
-        return e
-    loop = pts[head[i]:tail[j] + 1].copy()
-    loop[-1] = loop[0]
-    return replace(e, points=loop, closed=True)
+        return None
+    return pts[head[i]:tail[j] + 1].copy()
 
 
 #: turns sharper than this, in degrees, are the tips of slender border patches
