@@ -39,12 +39,14 @@ MEASURES = ("doubled", "ink_kept", "coverage", "fidelity_px", "per_in", "per_int
 HIGHER_IS_BETTER = {"doubled": False, "ink_kept": True, "coverage": True, "fidelity_px": False,
                     "per_in": False, "per_intended": False, "f_score": True,
                     "tight_recall": True}
+#: the measures whose worst sketches are listed and drawn
+WORST_OF = ("doubled", "ink_kept", "per_in", "tight_recall")
 FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
            "strokestrip_inputs/examples/study_inputs/Bee04_SA_cluster.scap",
            "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/trash_bin/view1/"
            "lines_separation/full_cluster.scap")
 
-__all__ = ["main", "short_name", "summary"]
+__all__ = ["main", "scored", "short_name", "summary", "worst"]
 
 
 def _setup(root: str) -> None:
@@ -109,12 +111,10 @@ def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int
 
     from core import read_sketch
 
-    ok = {k: v for k, v in after.items() if not k.startswith("_") and "error" not in v}
+    ok = scored(after)
     chosen: dict[str, str] = {}
-    for m in ("doubled", "ink_kept", "per_in", "tight_recall"):
-        ranked = sorted((k for k in ok if m in ok[k]), key=lambda k: ok[k][m],
-                        reverse=not HIGHER_IS_BETTER[m])
-        for k in ranked[:5]:
+    for m in WORST_OF:
+        for k in worst(ok, m):
             chosen.setdefault(k, m)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = [str(DATA / k) for k in chosen]
@@ -139,10 +139,22 @@ def short_name(key: str) -> str:
     return Path(key).stem
 
 
+def scored(rows: dict[str, dict]) -> dict[str, dict]:
+    """The sketches of a run that were scored (not the far-ink rows, not the failures)."""
+    return {k: v for k, v in rows.items() if not k.startswith("_") and "error" not in v}
+
+
+def worst(ok: dict[str, dict], measure: str, n: int = 5) -> list[str]:
+    """The ``n`` worst of the scored sketches ``ok`` by ``measure`` (ties by name)."""
+    have = sorted(((v[measure], k) for k, v in ok.items() if measure in v),
+                  reverse=not HIGHER_IS_BETTER[measure])
+    return [k for _, k in have[:n]]
+
+
 def summary(rows: dict[str, dict]) -> str:
     """Medians per source and overall, and the five worst sketches of each measure."""
     lines = []
-    ok = {k: v for k, v in rows.items() if not k.startswith("_") and "error" not in v}
+    ok = scored(rows)
     sources = sorted({k.split("/")[0] for k in ok})
     for source in [*sources, "all"]:
         mine = [v for k, v in ok.items() if source == "all" or k.startswith(source + "/")]
@@ -152,11 +164,9 @@ def summary(rows: dict[str, dict]) -> str:
             if vals:
                 parts.append(f"{m} {np.median(vals):.3f}")
         lines.append(f"{source} ({len(mine)}): " + ", ".join(parts))
-    for m in ("doubled", "ink_kept", "per_in", "tight_recall"):
-        have = [(v[m], k) for k, v in ok.items() if m in v]
-        have.sort(reverse=not HIGHER_IS_BETTER[m])
-        lines.append(f"worst {m}: " + "; ".join(f"{short_name(k)} {x:.3f}"
-                                                  for x, k in have[:5]))
+    for m in WORST_OF:
+        lines.append(f"worst {m}: " + "; ".join(f"{short_name(k)} {ok[k][m]:.3f}"
+                                                  for k in worst(ok, m)))
     more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
     lines.append(f"sketches with more strokes out than in: {len(more)}")
     failed = [k for k, v in rows.items() if not k.startswith("_") and "error" in v]
