@@ -36,16 +36,21 @@ def sketches(tmp_path) -> Path:
 
 
 def _batch(*args: str) -> subprocess.Popen:
+    """``python -m core batch ARGS`` started, its output read as it comes."""
     return subprocess.Popen([sys.executable, "-m", "core", "batch", *args], cwd=ROOT, env=ENV,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+def _batch_run(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
+    """``python -m core batch ARGS`` run to its end."""
+    return subprocess.run([sys.executable, "-m", "core", "batch", *args], cwd=ROOT, env=ENV,
+                          capture_output=True, text=True, timeout=timeout)
 
 
 def test_a_batch_on_a_cluster_survives_a_worker_killed_mid_run_and_matches_the_local_run(
         dask_cluster, sketches, tmp_path):
     address, workers = dask_cluster
-    local = subprocess.run([sys.executable, "-m", "core", "batch", str(sketches),
-                            str(tmp_path / "local"), "--jobs", "1"], cwd=ROOT, env=ENV,
-                           capture_output=True, text=True, timeout=300)
+    local = _batch_run(str(sketches), str(tmp_path / "local"), "--jobs", "1")
     run = _batch(str(sketches), str(tmp_path / "remote"), "--scheduler", address,
                  "--summary", str(tmp_path / "summary.json"))
     lines = [run.stdout.readline()]  # the first sketch finished: the others are in flight
@@ -71,18 +76,14 @@ def test_resume_after_an_interrupted_run_redoes_only_what_is_missing(dask_cluste
                                                                     tmp_path):
     address, _ = dask_cluster
     out = tmp_path / "out"
-    first = subprocess.run([sys.executable, "-m", "core", "batch", str(sketches), str(out),
-                            "--scheduler", address], cwd=ROOT, env=ENV, capture_output=True,
-                           text=True, timeout=300)
+    first = _batch_run(str(sketches), str(out), "--scheduler", address)
     assert first.returncode == 1, first.stdout  # dots.scap
     for name in ("s03.svg", "s07.svg"):  # as if the run had been stopped before them
         (out / name).unlink()
     (out / ".partial-123-s07.svg").write_text("<svg")  # a write cut short
     before = {p.name: p.stat().st_mtime_ns for p in out.glob("s*.svg")}
-    again = subprocess.run([sys.executable, "-m", "core", "batch", str(sketches), str(out),
-                            "--scheduler", address, "--resume", "--summary",
-                            str(tmp_path / "s.json")], cwd=ROOT, env=ENV, capture_output=True,
-                           text=True, timeout=300)
+    again = _batch_run(str(sketches), str(out), "--scheduler", address, "--resume",
+                       "--summary", str(tmp_path / "s.json"))
     rows = json.loads((tmp_path / "s.json").read_text())["files"]
     redone = sorted(k for k, v in rows.items() if "strokes_out" in v)
     assert redone == ["s03.scap", "s07.scap"], again.stdout
@@ -93,10 +94,8 @@ def test_resume_after_an_interrupted_run_redoes_only_what_is_missing(dask_cluste
 
 
 def test_a_scheduler_that_does_not_answer_is_one_clear_error(sketches, tmp_path):
-    done = subprocess.run([sys.executable, "-m", "core", "batch", str(sketches),
-                           str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9",
-                           "--connect-timeout", "2"],
-                          cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=120)
+    done = _batch_run(str(sketches), str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9",
+                      "--connect-timeout", "2", timeout=120)
     assert done.returncode == 1
     assert "no Dask scheduler answers at tcp://127.0.0.1:9" in done.stderr + done.stdout
     assert not list((tmp_path / "out").glob("*.svg"))
