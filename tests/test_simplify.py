@@ -450,6 +450,26 @@ def test_free_ends_closer_than_the_bundle_width_that_continue_join_across_the_ga
     assert len(join_edges(build_graph([left, far], 0.001), SimplifyParams())) == 2
 
 
+def test_a_pass_beside_part_of_a_long_stroke_merges_into_it_though_crossings_cut_both():
+    """A wave, a second pass over part of it (1.3 units off, d_eps 1.6) and two lines
+    crossing both. Cut at the crossings, the pieces pair but each merge changes a short
+    piece too much; judged as whole strokes, the pass barely changes the wave: three
+    strokes (the wave, the two lines), and the wave's ink and the pass's lie on one."""
+    def wave(x0: float, x1: float, off: float) -> np.ndarray:
+        x = np.linspace(x0, x1, 150)
+        return np.column_stack([x, 8 * np.sin(x / 15) + off])
+
+    crossing = [np.array([[x, -15.0], [x + 3, 25.0]]) for x in (30, 55)]
+    sketch = Sketch([Stroke(p) for p in [wave(0, 100, 0), wave(20, 60, 1.3), *crossing]])
+    result = simplify(sketch, SimplifyParams(alpha=0.015))
+    assert len(result.strokes) == 3
+    lines = [s.points for s in result.strokes]
+    longest = max(lines, key=lambda p: np.ptp(p[:, 0]))
+    assert np.ptp(longest[:, 0]) > 95  # the wave, whole
+    d_eps = 0.015 * result.normalisation.scale
+    assert max_distance_to(np.vstack([wave(0, 100, 0), wave(20, 60, 1.3)]), [longest]) <= d_eps
+
+
 def test_a_loop_drawn_as_overlapping_pieces_is_one_closed_stroke():
     """Five arcs of a circle, each overlapping the next by a few degrees, with a little
     wobble: one closed stroke."""

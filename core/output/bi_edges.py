@@ -45,9 +45,12 @@ JUDGE_AHEAD = 32
 CANDIDATE_BLOCK = 4096
 
 
-def merge_bi_edges(edges: list[Edge], params: SimplifyParams, memo: StrokeMemo) -> list[Edge]:
-    """The edges after the bi-edge pass (see the module docstring)."""
-    return BiEdgePass(edges, params, memo).run()
+def merge_bi_edges(edges: list[Edge], params: SimplifyParams, memo: StrokeMemo,
+                   every_pair: bool = False) -> list[Edge]:
+    """The edges after the bi-edge pass (see the module docstring). ``every_pair``: pairs
+    of two free edges are candidates too (whole strokes, which the merge loop never saw
+    as such)."""
+    return BiEdgePass(edges, params, memo, every_pair).run()
 
 
 class BiEdgePass:
@@ -57,8 +60,10 @@ class BiEdgePass:
     the current edge that edge k has been merged into (k itself while it stands).
     """
 
-    def __init__(self, edges: list[Edge], params: SimplifyParams, memo: StrokeMemo) -> None:
+    def __init__(self, edges: list[Edge], params: SimplifyParams, memo: StrokeMemo,
+                 every_pair: bool = False) -> None:
         self.params = params = params.resolved()  # alpha a number
+        self.every_pair = every_pair
         self.d_eps = params.alpha
         self.memo = memo
         self.input = edges
@@ -193,7 +198,7 @@ class BiEdgePass:
         i, j = shapely.STRtree(lines).query(shapely.box(*(lo[:, :2] - d).T,
                                                         *(lo[:, 2:] + d).T))
         free = np.array(self.free)
-        keep = (i < j) & ~(free[i] & free[j])
+        keep = (i < j) if self.every_pair else (i < j) & ~(free[i] & free[j])
         i, j = i[keep], j[keep]
         if len(i) == 0:
             return i, j

@@ -26,7 +26,18 @@
      heading on the way the other goes (within ``join_angle``), join across the gap: a gap
      narrower than the bundle width is no gap. Twice d_eps joined more, but the bridges
      left the ink (fidelity 0.40 -> 0.41 px) and joined distinct curves.
-6. Each stroke is fitted with piecewise cubic Beziers, corners kept.
+6. Whole strokes that still run side by side go through the bi-edge pass once more (every
+   pair, free or not), and the strokes are joined again where merges changed them. The
+   first pass judged pieces cut at every junction: a pass beside part of a long stroke
+   pairs with the piece it lies along, but merged into that short piece it changes its
+   shape by more than epsilon, where merged into the whole stroke it barely changes it
+   (the Fourier distance measures a change against the shape it changes). On the 101 dev
+   sketches: doubled ink 0.108 -> 0.095 (cartoons 0.118 -> 0.103, study drawings 0.180
+   -> 0.136, product sketches 0.065 unchanged), strokes per intended curve 1.036 -> 0.990,
+   at a cost in tight recall (0.825 -> 0.820: close construction lines merged as wholes)
+   and distance to the ink (0.455 -> 0.463 px); ink kept unchanged. A second round merged
+   little more (fruit 0.299 -> 0.260 doubled, most sketches none).
+7. Each stroke is fitted with piecewise cubic Beziers, corners kept.
 """
 
 from __future__ import annotations
@@ -427,7 +438,13 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     graph = trim_spurs(graph, d_eps, np.cos(np.radians(params.join_angle)))
     graph = contract_short_edges(graph, d_eps, params.beta)
     strokes = []
-    for stroke in close_loops(join_edges(graph, params), d_eps):
+    joined = close_loops(join_edges(graph, params), d_eps)
+    # step 6: whole strokes that still run side by side, every pair judged (the merge loop
+    # judged free curves only as the pieces they were then)
+    merged = merge_bi_edges(joined, params, memo, every_pair=True)
+    if len(merged) < len(joined):
+        joined = close_loops(join_edges(build_graph(renode(merged), snap), params), d_eps)
+    for stroke in joined:
         if arc_lengths(stroke.points)[-1] <= GRID:  # a crumb below the snapping grid
             continue
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
