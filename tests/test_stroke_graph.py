@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import shapely
 
 from core.arrays.components import cluster_labels, tight_cluster_labels
 from core.output.stroke_graph import Edge, build_graph
+from core.output.to_strokes import trim_doubled_ends
 
 
 def test_ends_within_snap_become_one_node():
@@ -38,3 +40,44 @@ def test_tight_clusters_are_the_single_linkage_ones_where_those_are_small():
     labels = tight_cluster_labels(np.array([(0, 0), (0.4, 0), (0.8, 0), (1.2, 0), (1.6, 0.0)]),
                                   0.5)
     assert labels.tolist() == [0, 0, 1, 1, 2]
+
+
+def _along_then_away(run: float, offset: float) -> np.ndarray:
+    """A stroke that runs ``run`` along the x axis, ``offset`` above it, then turns 45
+    degrees away for 5 units."""
+    x = np.linspace(2.0, 2.0 + run, 40)
+    along = np.column_stack([x, np.full_like(x, offset)])
+    t = np.linspace(0, 5, 40)[1:, None] / np.sqrt(2)
+    return np.vstack([along, along[-1] + np.hstack([t, t])])
+
+
+def test_a_stroke_end_run_along_a_line_then_away_is_cut_where_it_leaves():
+    """reach 1: a stroke 0.5 above a line for 3 units, then away, loses that run and
+    starts on the line; one beside it for 1 unit only, one crossing it, and a loop along
+    it are left as they were (the same points)."""
+    line = Edge(np.array([[0.0, 0.0], [20.0, 0.0]]))
+    fork = Edge(_along_then_away(3.0, 0.5))
+    [_, trimmed] = trim_doubled_ends([line, fork], 1.0, 30.0)
+    pts = trimmed.points
+    assert pts[0, 1] == 0.0 and 2.0 <= pts[0, 0] <= 5.0  # starts on the line
+    band = shapely.buffer(shapely.LineString(line.points), 1.0)
+    def beside(p: np.ndarray) -> float:
+        return float(shapely.length(shapely.intersection(shapely.LineString(p), band)))
+    assert beside(fork.points) > 3.0 and beside(pts) < 2.0  # the fork, and the way out
+    leaving = fork.points[fork.points[:, 0] >= 5.0]
+    assert shapely.hausdorff_distance(shapely.LineString(pts[1:]),
+                                      shapely.LineString(leaving)) < 0.1
+    short = Edge(_along_then_away(1.0, 0.5))
+    across = Edge(np.array([[5.0, -3.0], [6.0, 3.0]]))
+    a = np.linspace(0, 2 * np.pi, 60)
+    loop = Edge(np.column_stack([6 + 3 * np.cos(a), 3.5 + 3 * np.sin(a)]), closed=True)
+    kept = trim_doubled_ends([line, short, across, loop], 1.0, 30.0)
+    assert all(k.points is e.points for k, e in zip(kept, [line, short, across, loop]))
+
+
+def test_of_two_strokes_overlapping_end_to_end_only_the_shorter_is_cut():
+    long_ = Edge(np.column_stack([np.linspace(0, 10, 50), np.zeros(50)]))
+    back = Edge(np.column_stack([np.linspace(12, 7, 30), np.full(30, 0.4)])[::-1])
+    out = trim_doubled_ends([long_, back], 1.0, 30.0)
+    assert out[0].points is long_.points
+    assert out[1].points[:, 0].min() >= 9.0  # only what runs past the long one's end is left
