@@ -359,6 +359,24 @@ def test_two_passes_1_4_percent_of_the_diagonal_apart_alone_merge():
     assert np.median(result.strokes[0].points[:, 1]) == pytest.approx(gap / 2, abs=0.2 * gap)
 
 
+def test_two_lines_1_5_percent_apart_each_a_tight_bundle_stay_two_in_place():
+    """Two distinct lines 1.5% of the diagonal apart, each drawn as four passes within
+    about 0.2% of it: each bundle's passes are far closer to each other than to the other
+    line. Two strokes, each on its own bundle (within 0.3% of the diagonal)."""
+    rng = np.random.default_rng(1)
+    size = np.hypot(100, 1.5)
+    strokes = []
+    for centre in (0.0, 0.015 * size):
+        for k in range(4):
+            x = np.linspace(rng.uniform(0, 5), rng.uniform(95, 100), 80)
+            y = centre + rng.normal(0, 0.0007 * size) + 0.0004 * size * np.sin(x / 10 + k)
+            strokes.append(Stroke(np.column_stack([x, y])))
+    result = simplify(Sketch(strokes))
+    assert len(result.strokes) == 2
+    found = sorted(float(np.median(s.points[:, 1])) for s in result.strokes)
+    assert found == pytest.approx([0.0, 0.015 * size], abs=0.003 * size)
+
+
 def test_alpha_is_a_fraction_of_the_drawing_and_auto_follows_the_ink():
     """Auto: a sparse drawing (the house sample) gets the widest auto width, a dense one
     (the same house hatched with lines 0.5% of D apart) the paper's; a number overrides
