@@ -2,8 +2,8 @@
 two long sides of a slender border patch, or a free curve along an outline) are merged by
 the curve-curve operator again, while a merge costs less than epsilon.
 
-Candidate pairs (boxes within d_eps; not two free curves, which agglomeration has judged;
-with most of five points of the shorter edge within d_eps of the longer, or an end of it:
+Candidate pairs (boxes within d_eps; not two free curves, which agglomeration has judged,
+except in the pass over whole strokes, ``every_pair``, which it never saw as such; with most of five points of the shorter edge within d_eps of the longer, or an end of it:
 the edges that overlap, one carried on past the other's end) are swept closest
 first, by the mean distance of those points. Each candidate stands for whatever its edges
 have been merged into by then; a pair already merged into one is skipped, and every pair
