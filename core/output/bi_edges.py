@@ -3,17 +3,17 @@ two long sides of a slender border patch, or a free curve along an outline) are 
 the curve-curve operator again, while a merge costs less than epsilon.
 
 Candidate pairs (boxes within d_eps; not two free curves, which agglomeration has judged,
-except in the pass over whole strokes, ``every_pair``, which it never saw as such; with most of five points of the shorter edge within d_eps of the longer, or an end of it:
-the edges that overlap, one carried on past the other's end) are swept closest
-first, by the mean distance of those points. Each candidate stands for whatever its edges
-have been merged into by then; a pair already merged into one is skipped, and every pair
-of current edges is judged once: paired and merged by :func:`pair_and_merge_many`, costed
-as min(d(A, M), d(B, M)), and merged if it pairs (side by side or overlapping; joins end
-to end are the stroke graph's) and costs less than epsilon. Taking the overlaps too took
+except in the pass over whole strokes, ``every_pair``, which it never saw as such; with
+most of five points of the shorter edge within d_eps of the longer, or an end of it: the
+edges that overlap, one carried on past the other's end) are swept closest first, by the
+mean distance of those points. Each candidate stands for whatever its edges have been
+merged into by then; a pair already merged into one is skipped, and every pair of current
+edges is judged once: paired and merged by :func:`pair_and_merge_many`, costed as
+min(d(A, M), d(B, M)), and merged if it pairs (side by side or overlapping; joins end to
+end are the stroke graph's) and costs less than epsilon. Taking the overlaps too took
 doubled ink 0.117 -> 0.112 and strokes per intended curve 1.069 -> 1.045 on the 101 dev
-sketches (medians; tight recall unchanged). Costed
-lazily this way, a dense cluster of k overlapping edges costs about k merges, not the k * k
-pairs among them.
+sketches (medians; tight recall unchanged). Costed lazily this way, a dense cluster of k
+overlapping edges costs about k merges, not the k * k pairs among them.
 
 Invariant: the result depends on the edges and parameters alone. Judgments are made in
 batches (the pair needed and the next few), found in the memo from other runs or not;
