@@ -8,7 +8,7 @@ import shapely
 
 __all__ = [
     "lines_from", "polygons_from", "ring_is_counter_clockwise", "shoelace_terms",
-    "split_coordinates",
+    "split_coordinates", "unit_rows",
 ]
 
 
@@ -62,3 +62,13 @@ def split_coordinates(geoms: np.ndarray) -> list[np.ndarray]:
     coords, index = shapely.get_coordinates(geoms, return_index=True)
     cuts = np.flatnonzero(np.diff(index)) + 1
     return np.split(coords, cuts) if len(coords) else []
+
+
+def unit_rows(vectors: np.ndarray) -> np.ndarray:
+    """Each row of an (n, 2) array of vectors scaled to length 1; zero rows stay zero.
+
+    >>> unit_rows(np.array([[3.0, 4.0], [0.0, 0.0]])).tolist()
+    [[0.6, 0.8], [0.0, 0.0]]
+    """
+    norm = np.hypot(vectors[:, 0], vectors[:, 1])
+    return vectors / np.where(norm > 0, norm, 1.0)[:, None]

@@ -22,9 +22,22 @@ from functools import cached_property
 import numpy as np
 
 __all__ = [
-    "arc_lengths", "end_to_end", "points_at", "Polylines", "resample_polyline",
-    "resample_polylines", "split", "starts", "total_lengths",
+    "arc_lengths", "end_to_end", "leading_count", "points_at", "Polylines",
+    "resample_polyline", "resample_polylines", "split", "starts", "total_lengths",
 ]
+
+
+def leading_count(mask: np.ndarray) -> int | np.ndarray:
+    """How many of a polyline's points, from its first, pass a test: the number of True
+    values ``mask`` starts with along its first axis (for each column of a 2-D mask).
+
+    >>> leading_count(np.array([True, True, False, True]))
+    2
+    >>> leading_count(np.array([[True, False], [True, True]])).tolist()
+    [2, 0]
+    """
+    count = np.where(mask.all(axis=0), len(mask), np.argmin(mask, axis=0))
+    return int(count) if mask.ndim == 1 else count
 
 
 def starts(sizes: np.ndarray) -> np.ndarray:

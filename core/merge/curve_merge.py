@@ -29,7 +29,15 @@ from functools import cached_property, lru_cache
 import numpy as np
 import shapely
 
-from ..arrays.polylines import Polylines, arc_lengths, resample_polylines, split, starts
+from ..arrays.geometry import unit_rows
+from ..arrays.polylines import (
+    Polylines,
+    arc_lengths,
+    leading_count,
+    resample_polylines,
+    split,
+    starts,
+)
 
 __all__ = [
     "MIN_OVERLAP", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
@@ -73,8 +81,7 @@ class SampledCurve:
         d[1:-1] = (points[2:] - points[:-2]) / 2
         d[first] = points[first + 1] - points[first]
         d[last] = points[last] - points[last - 1]
-        norm = np.hypot(d[:, 0], d[:, 1])
-        tangents = d / np.where(norm > 0, norm, 1.0)[:, None]
+        tangents = unit_rows(d)
         lines = shapely.linestrings(points, indices=np.repeat(np.arange(len(sizes)), sizes))
         # copies: a view would keep the whole batch while any one curve lives
         return [cls(points[a:b].copy(), s[a:b].copy(), tangents[a:b].copy(), line)
@@ -188,17 +195,13 @@ def _staggered(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: flo
     sizes = np.bincount(which, minlength=len(shorts))
     ok = np.zeros(len(shorts), dtype=bool)
     long_tangents = np.concatenate([c.tangents for c in longs])
-    def leading(near: np.ndarray) -> int:
-        """How many points at the start are near."""
-        return len(near) if near.all() else int(np.argmin(near))
-
     for k, (s_k, d_k, short, long_) in enumerate(zip(split(s, sizes), split(dist, sizes),
                                                     shorts, longs)):
         near, arc, tan_s = d_k <= d_eps, short.s, short.tangents
-        run = leading(near)
+        run = leading_count(near)
         if run == 0:  # the near run, if any, is at the other end: walk the short one back
             near, s_k, arc, tan_s = near[::-1], s_k[::-1], arc[-1] - arc[::-1], -tan_s[::-1]
-            run = leading(near)
+            run = leading_count(near)
         if run == 0 or run == len(near) or near[run:].any() or arc[run - 1] < d_eps:
             continue
         far = s_k[run:]

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..arrays.components import group_means, tight_cluster_labels
+from ..arrays.geometry import unit_rows
 from ..arrays.polylines import Polylines, arc_lengths, end_to_end, total_lengths
 
 __all__ = ["Edge", "StrokeGraph", "build_graph", "end_directions", "rebuild"]
@@ -78,6 +79,4 @@ def end_directions(polylines: list[np.ndarray], reach: float) -> np.ndarray:
     points, first, last = end_to_end(walks)
     lines = Polylines.of_flat(arc_lengths(points, first, last), points, first, last)
     k = np.maximum(lines.index(np.arange(len(walks)), np.full(len(walks), reach)), first + 1)
-    d = points[k] - points[first]
-    n = np.hypot(d[:, 0], d[:, 1])
-    return d / np.where(n > 0, n, 1.0)[:, None]
+    return unit_rows(points[k] - points[first])

@@ -59,8 +59,14 @@ import numpy as np
 import shapely
 
 from ..arrays.components import component_labels, group_means, wider_than
-from ..arrays.geometry import lines_from, split_coordinates
-from ..arrays.polylines import arc_lengths, points_at, resample_polyline, total_lengths
+from ..arrays.geometry import lines_from, split_coordinates, unit_rows
+from ..arrays.polylines import (
+    arc_lengths,
+    leading_count,
+    points_at,
+    resample_polyline,
+    total_lengths,
+)
 from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
 from ..params import SimplifyParams
@@ -423,10 +429,9 @@ def _doubled_run(pts: np.ndarray, spacing: float, others: list[int], lines: np.n
         return best, which
     others = [j for j, ok in zip(others, first.tolist()) if ok]
     geoms = shapely.points(pts)
-    tangent = np.gradient(pts, axis=0)
-    tangent /= np.maximum(np.hypot(*tangent.T), 1e-300)[:, None]
+    tangent = unit_rows(np.gradient(pts, axis=0))
     near = shapely.distance(geoms[:, None], lines[others][None, :]) <= reach  # all at once
-    runs = np.where(near.all(axis=0), len(pts), np.argmin(near, axis=0)).tolist()
+    runs = leading_count(near).tolist()
     for j, run in zip(others, runs):
         if run <= best:
             continue
@@ -435,10 +440,8 @@ def _doubled_run(pts: np.ndarray, spacing: float, others: list[int], lines: np.n
         step = spacing / 2
         ahead = shapely.get_coordinates(shapely.line_interpolate_point(line, at + step))
         back = shapely.get_coordinates(shapely.line_interpolate_point(line, at - step))
-        t = ahead - back
-        t /= np.maximum(np.hypot(*t.T), 1e-300)[:, None]
-        along = np.abs((t * tangent[:run]).sum(axis=1)) >= cos_max
-        run = len(along) if along.all() else int(np.argmin(along))
+        along = np.abs((unit_rows(ahead - back) * tangent[:run]).sum(axis=1)) >= cos_max
+        run = leading_count(along)
         if run > best:
             best, which = run, j
     return best, which
@@ -459,7 +462,7 @@ def trim_doubled_ends(strokes: list[Edge], reach: float, max_angle_deg: float
     if len(strokes) < 2:
         return strokes
     cos_max = np.cos(np.radians(max_angle_deg))
-    spacing = reach / 4
+    per_reach = 4  # samples: an end is measured every reach / 4
     out = list(strokes)
     lines = lines_from([e.points for e in out])
     tree = shapely.STRtree(lines.copy())  # candidates: the strokes before any trimming
@@ -475,7 +478,7 @@ def trim_doubled_ends(strokes: list[Edge], reach: float, max_angle_deg: float
         pts = e.points
         for side in (0, 1):
             line_pts = pts if side == 0 else pts[::-1]
-            samples = resample_polyline(line_pts, spacing)
+            samples = resample_polyline(line_pts, reach / per_reach)
             step = float(arc_lengths(samples)[-1]) / max(len(samples) - 1, 1)
             run, j = _doubled_run(samples, step, others, lines, reach, cos_max)
             if run * step < DOUBLED_END * reach or len(samples) - run < 4:
@@ -484,9 +487,8 @@ def trim_doubled_ends(strokes: list[Edge], reach: float, max_angle_deg: float
             s = arc_lengths(line_pts)
             keep = line_pts[s > cut]
             start = points_at(np.array([cut]), s, line_pts)
-            # it starts on the other line ``reach`` (four samples) back along the run: a
-            # shallow fork
-            back = samples[max(run - 1 - 4, 0)]
+            # it starts on the other line ``reach`` back along the run: a shallow fork
+            back = samples[max(run - 1 - per_reach, 0)]
             onto = shapely.get_coordinates(shapely.line_interpolate_point(
                 lines[j], shapely.line_locate_point(lines[j], shapely.points(back))))
             line_pts = np.vstack([onto, start, keep])
