@@ -377,6 +377,41 @@ def test_two_lines_1_5_percent_apart_each_a_tight_bundle_stay_two_in_place():
     assert found == pytest.approx([0.0, 0.015 * size], abs=0.003 * size)
 
 
+def _gentle_arcs(offsets: list[float], seed: int = 0) -> list[Stroke]:
+    """Passes along one gentle arc 600 long, each shifted across it by its offset and
+    along it at random (so that their ends do not line up)."""
+    rng = np.random.default_rng(seed)
+    x = np.linspace(0, 600, 60)
+    return [Stroke(np.column_stack([x + rng.uniform(-20, 20),
+                                    200 + o + 15 * np.sin(x / 600 * np.pi)]))
+            for o in offsets]
+
+
+def test_a_bundle_a_little_wider_than_d_eps_with_ink_between_becomes_one_stroke():
+    """Five passes 3.5 apart (the bundle 1.7 d_eps wide): the merges leave two lines along
+    its sides a little farther apart than d_eps, with passes between them; the ink fills
+    the space between, so they are one bundle and one stroke (two without that, on each
+    of the eight layouts tried)."""
+    sketch = Sketch(_gentle_arcs([0, 3.5, 7, 10.5, 14], seed=1), 600, 400)
+    result = simplify(sketch)
+    assert 14 / 2 < result.bundle_width < 14
+    assert len(result.strokes) == 1
+    assert len(simplify(sketch, SimplifyParams(fill_gap=0)).strokes) == 2
+
+
+def test_two_tight_bundles_a_little_more_than_d_eps_apart_stay_two_in_place():
+    """The same arc drawn as two tight bundles (three passes 0.6 apart) 10 apart, about
+    1.3 d_eps, nothing between: the empty band between them is wider than the ink's
+    spacing, so they stay two lines, each on its bundle."""
+    result = simplify(Sketch(_gentle_arcs([0, 0.6, 1.2, 10, 10.6, 11.2]), 600, 400))
+    assert 10 / 1.5 < result.bundle_width < 10
+    assert len(result.strokes) == 2
+    middles = sorted(float(np.median(s.points[:, 1] - 200 - 15 * np.sin(s.points[:, 0] / 600
+                                                                        * np.pi)))
+                     for s in result.strokes)
+    assert middles == pytest.approx([0.6, 10.6], abs=1.0)
+
+
 def test_alpha_is_a_fraction_of_the_drawing_and_auto_follows_the_ink():
     """Auto: a sparse drawing (the house sample) gets the widest auto width, a dense one
     (the same house hatched with lines 0.5% of D apart) the paper's; a number overrides
