@@ -28,7 +28,7 @@ in (:mod:`core.arrays.polylines`), and the memo keys them by d_eps too.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from itertools import islice
 
 import numpy as np
@@ -108,6 +108,7 @@ class InkFill:
 
     ink: np.ndarray  #: the ink as shapely LineStrings
     gap: float  #: the widest gap a filled section may have
+    tree: shapely.STRtree = field(init=False, repr=False)  #: of ``ink``, made with it
 
     def __post_init__(self) -> None:
         self.tree = shapely.STRtree(self.ink)
