@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from metrics import changed, coverage, fidelity
 from test_base_complex import overshooting_side, short_crossing
 
-from core import Sketch, SketchError, Stroke, read_sketch, simplify
+from core import Sketch, SketchError, Stroke, read_sketch, simplify, write_sketch
 from core.arrays.geometry import lines_from
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import join_edges, trim_spurs
@@ -227,11 +227,28 @@ def test_command_line(tmp_path):
     assert info["bundle_width"] == pytest.approx(0.015 * np.hypot(*np.ptp(np.concatenate(
         [s.points for s in read_sketch(SAMPLES / "house.scap").strokes]), axis=0)))
     assert out.read_text().count("<path") == info["counts"]["after"]["strokes"]
+    assert 0 < info["params"]["fill_gap"] <= 0.7 * 0.015  # resolved from "auto" too
     again = read_sketch(out)
     assert len(again.strokes) == info["counts"]["after"]["strokes"]
     src = read_sketch(SAMPLES / "house.scap")
     assert coverage([s.points for s in src.strokes], [s.points for s in again.strokes],
                     tol=6.0) > 0.95  # written in the input's coordinates
+
+
+def test_command_line_fill_gap_0_leaves_wide_bundles_as_two_lines(tmp_path):
+    """--fill-gap 0 turns step 6b off: the bundle a little wider than d_eps of the test
+    above stays two lines, where the default makes it one."""
+    sketch = tmp_path / "wide.svg"
+    write_sketch(Sketch(_gentle_arcs([0, 3.5, 7, 10.5, 14], seed=1), 600, 400), sketch)
+    counts = []
+    for extra in ([], ["--fill-gap", "0"]):
+        stats = tmp_path / "stats.json"
+        run = subprocess.run([sys.executable, "-m", "core", str(sketch), "-o",
+                              str(tmp_path / "out.svg"), "--stats", str(stats), *extra],
+                             cwd=ROOT, capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+        counts.append(json.loads(stats.read_text())["counts"]["after"]["strokes"])
+    assert counts == [1, 2]
 
 
 @pytest.mark.parametrize("args", [["missing.scap", "-o", "x.svg"],

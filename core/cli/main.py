@@ -1,6 +1,7 @@
 """Command line: a thin layer over the library, with argparse subcommands.
 
-    python -m core [simplify] INPUT -o OUTPUT.svg [--epsilon E] [--alpha A] [--stats S.json]
+    python -m core [simplify] INPUT -o OUTPUT.svg [--epsilon E] [--alpha A] [--fill-gap G]
+                                              [--stats S.json]
     python -m core inspect SKETCH [SKETCH ...] [--json]
     python -m core batch IN_DIR OUT_DIR [--jobs N | --scheduler tcp://HOST:PORT] [--resume]
                          [--epsilon E] [--scap] [--summary S.json]
@@ -44,9 +45,13 @@ def parser() -> argparse.ArgumentParser:
     one.add_argument("--epsilon", type=float, default=d.epsilon,
                      help="how far to simplify: largest shape change merged (default "
                           "%(default)s)")
-    one.add_argument("--alpha", type=_alpha, default=d.alpha,
+    one.add_argument("--alpha", type=_auto_or_number, default=d.alpha,
                      help="stroke bundle width as a fraction of the drawing's diagonal, or "
                           "'auto' (default: measured from the ink, 0.012 to 0.015)")
+    one.add_argument("--fill-gap", type=_auto_or_number, default=d.fill_gap,
+                     help="widest ink-free band inside a bundle drawn wider than alpha, as a "
+                          "fraction of the drawing's diagonal; 0 merges no such bundle "
+                          "(default 'auto': the ink's spacing)")
     one.add_argument("--samples", type=int, default=d.samples,
                      help="Fourier descriptor samples N (default %(default)s)")
     one.add_argument("--stats", help="write counts and timings to this JSON file")
@@ -79,8 +84,8 @@ def parser() -> argparse.ArgumentParser:
     return top
 
 
-def _alpha(text: str) -> float | str:
-    """--alpha: "auto" or a number."""
+def _auto_or_number(text: str) -> float | str:
+    """--alpha, --fill-gap: "auto" or a number."""
     if text == "auto":
         return text
     try:
@@ -93,7 +98,8 @@ def run_simplify(args: argparse.Namespace) -> int:
     out = Path(args.output)
     if out.suffix.lower() not in (".svg", ".scap"):
         raise SketchError(f"{out}: unknown output format {out.suffix!r} (use .svg or .scap)")
-    params = SimplifyParams(epsilon=args.epsilon, alpha=args.alpha, samples=args.samples)
+    params = SimplifyParams(epsilon=args.epsilon, alpha=args.alpha, samples=args.samples,
+                            fill_gap=args.fill_gap)
     result = simplify(read_sketch(args.input), params)
     write_sketch(result.to_sketch(), out)
     before, after = result.counts["before"], result.counts["after"]
