@@ -34,7 +34,7 @@ from itertools import islice
 import numpy as np
 import shapely
 
-from ..arrays.geometry import lines_from, unit_rows
+from ..arrays.geometry import directions_at, lines_from, nearest_on, unit_rows
 from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from ..merge.fourier import curve_descriptors, fd_distance
 from ..params import SimplifyParams
@@ -124,9 +124,8 @@ class InkFill:
         short, long_ = np.where(first_shorter, i, j), np.where(first_shorter, j, i)
         start = shapely.line_interpolate_point(np.repeat(lines[short], k),
                                                np.tile(FILL_SECTIONS, len(i)), normalized=True)
-        onto = np.repeat(lines[long_], k)
-        end = shapely.line_interpolate_point(onto, shapely.line_locate_point(onto, start))
-        a, b = shapely.get_coordinates(start), shapely.get_coordinates(end)
+        a = shapely.get_coordinates(start)
+        b = nearest_on(np.repeat(lines[long_], k), start)
         span = np.hypot(*(b - a).T)
         within = (span <= reach).reshape(-1, k)
         widest = self._widest_gaps(a, b, reach / 8) * span
@@ -147,10 +146,7 @@ class InkFill:
         at = shapely.get_coordinates(parts)
         direction = b - a
         if len(at):  # the ink's direction where it crosses: along the pair, or across
-            where = shapely.line_locate_point(self.ink[ink], shapely.points(at))
-            ahead = shapely.line_interpolate_point(self.ink[ink], where + step)
-            behind = shapely.line_interpolate_point(self.ink[ink], where - step)
-            tangent = unit_rows(shapely.get_coordinates(ahead) - shapely.get_coordinates(behind))
+            tangent = directions_at(self.ink[ink], shapely.points(at), step)
             across = np.abs((tangent * unit_rows(direction[sec])).sum(axis=1))
             sec, at = sec[across <= ALONG_COS], at[across <= ALONG_COS]
         t = ((at - a[sec]) * direction[sec]).sum(axis=1) / np.maximum(

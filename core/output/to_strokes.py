@@ -67,7 +67,13 @@ import numpy as np
 import shapely
 
 from ..arrays.components import component_labels, group_means, wider_than
-from ..arrays.geometry import lines_from, split_coordinates, unit_rows
+from ..arrays.geometry import (
+    directions_at,
+    lines_from,
+    nearest_on,
+    split_coordinates,
+    unit_rows,
+)
 from ..arrays.polylines import (
     arc_lengths,
     leading_count,
@@ -443,12 +449,8 @@ def _doubled_run(pts: np.ndarray, spacing: float, others: list[int], lines: np.n
     for j, run in zip(others, runs):
         if run <= best:
             continue
-        line = lines[j]
-        at = shapely.line_locate_point(line, geoms[:run])
-        step = spacing / 2
-        ahead = shapely.get_coordinates(shapely.line_interpolate_point(line, at + step))
-        back = shapely.get_coordinates(shapely.line_interpolate_point(line, at - step))
-        along = np.abs((unit_rows(ahead - back) * tangent[:run]).sum(axis=1)) >= cos_max
+        direction = directions_at(lines[j], geoms[:run], spacing / 2)
+        along = np.abs((direction * tangent[:run]).sum(axis=1)) >= cos_max
         run = leading_count(along)
         if run > best:
             best, which = run, j
@@ -497,8 +499,7 @@ def trim_doubled_ends(strokes: list[Edge], reach: float, max_angle_deg: float
             start = points_at(np.array([cut]), s, line_pts)
             # it starts on the other line ``reach`` back along the run: a shallow fork
             back = samples[max(run - 1 - per_reach, 0)]
-            onto = shapely.get_coordinates(shapely.line_interpolate_point(
-                lines[j], shapely.line_locate_point(lines[j], shapely.points(back))))
+            onto = nearest_on(lines[j], shapely.points(back))
             line_pts = np.vstack([onto, start, keep])
             pts = line_pts if side == 0 else line_pts[::-1]
         if pts is not e.points:
