@@ -541,6 +541,16 @@ def _smoothed(pts: np.ndarray, closed: bool, params: SimplifyParams) -> np.ndarr
     return smooth_between_corners(pts, 4 * params.smoothing, corners, closed)
 
 
+def _joined_again(merged: list[Edge], strokes: list[Edge], params: SimplifyParams,
+                  snap: float) -> list[Edge]:
+    """The strokes after a pass over whole strokes (``merged``, from ``strokes``): joined
+    again through the nodes where merges changed them, or ``strokes`` as they were when
+    the pass merged none. ``params`` resolved (alpha a number, d_eps)."""
+    if len(merged) >= len(strokes):
+        return strokes
+    return close_loops(join_edges(build_graph(renode(merged), snap), params), params.alpha)
+
+
 def to_strokes(state: ComplexState, params: SimplifyParams,
                memo: StrokeMemo) -> list[FittedStroke]:
     """Output strokes (unit frame) of a simplified complex.
@@ -560,14 +570,12 @@ def to_strokes(state: ComplexState, params: SimplifyParams,
     joined = close_loops(join_edges(graph, params), d_eps)
     # step 6: whole strokes that still run side by side, every pair judged (the merge loop
     # judged free curves only as the pieces they were then)
-    merged = merge_bi_edges(joined, params, memo, every_pair=True)
-    if len(merged) < len(joined):
-        joined = close_loops(join_edges(build_graph(renode(merged), snap), params), d_eps)
-    if params.epsilon > 0:  # step 6b: bundles a little wider than d_eps, filled with ink
-        merged = merge_filled_bundles(joined, params, memo, state.base.curves)
-        if len(merged) < len(joined):
-            joined = close_loops(join_edges(build_graph(renode(merged), snap), params), d_eps)
+    joined = _joined_again(merge_bi_edges(joined, params, memo, every_pair=True), joined,
+                           params, snap)
     if params.epsilon > 0:  # epsilon 0 keeps every stroke as drawn
+        # step 6b: bundles a little wider than d_eps, filled with ink
+        joined = _joined_again(merge_filled_bundles(joined, params, memo, state.base.curves),
+                               joined, params, snap)
         joined = trim_doubled_ends(joined, TRIM_NEAR * d_eps, params.angle)  # step 7
     for stroke in joined:
         if arc_lengths(stroke.points)[-1] <= GRID:  # a crumb below the snapping grid
