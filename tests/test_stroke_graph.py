@@ -6,6 +6,8 @@ import numpy as np
 import shapely
 
 from core.arrays.components import cluster_labels, tight_cluster_labels
+from core.arrays.geometry import lines_from
+from core.output.bi_edges import InkFill
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import trim_doubled_ends
 
@@ -81,3 +83,19 @@ def test_of_two_strokes_overlapping_end_to_end_only_the_shorter_is_cut():
     out = trim_doubled_ends([long_, back], 1.0, 30.0)
     assert out[0].points is long_.points
     assert out[1].points[:, 0].min() >= 9.0  # only what runs past the long one's end is left
+
+
+def test_an_end_a_little_farther_off_is_cut_only_where_ink_fills_the_space_between():
+    """reach 0.75, up to 1.0 where ink fills: a stroke 0.9 above a line for 3 units, then
+    away, is cut where passes drawn between them (0.3 and 0.6 above the line) leave no gap
+    wider than 0.4; with nothing between them it is two lines drawn close, and kept."""
+    line = Edge(np.array([[0.0, 0.0], [20.0, 0.0]]))
+    fork = Edge(_along_then_away(3.0, 0.9))
+    passes = [_along_then_away(3.0, y)[:40] for y in (0.3, 0.6)]
+    bare = InkFill(lines_from([line.points, fork.points]), 0.4)
+    filled = InkFill(lines_from([line.points, fork.points, *passes]), 0.4)
+    [_, kept] = trim_doubled_ends([line, fork], 0.75, 30.0, bare, 1.0)
+    assert kept.points is fork.points
+    [_, cut] = trim_doubled_ends([line, fork], 0.75, 30.0, filled, 1.0)
+    assert cut.points[0, 1] == 0.0 and 2.0 <= cut.points[0, 0] <= 5.0  # starts on the line
+    assert trim_doubled_ends([line, fork], 0.75, 30.0)[1].points is fork.points  # no fill

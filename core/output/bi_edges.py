@@ -76,9 +76,10 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams, memo: StrokeMemo,
 
 
 def merge_filled_bundles(strokes: list[Edge], params: SimplifyParams, memo: StrokeMemo,
-                         ink: list[np.ndarray]) -> list[Edge]:
+                         fill: InkFill) -> list[Edge]:
     """Whole strokes after merging those that lie side by side up to :data:`FILL_REACH`
-    d_eps apart where the ``ink`` (the base curves) fills the space between them.
+    d_eps apart where the ink (``fill``: the base curves, and ``params.fill_gap``) fills
+    the space between them.
 
     A bundle drawn a little wider than d_eps leaves two output lines along its sides, each
     the middle of the strokes nearer to it. Whether they are one bundle or two lines drawn
@@ -88,11 +89,10 @@ def merge_filled_bundles(strokes: list[Edge], params: SimplifyParams, memo: Stro
     with d_eps widened to the reach.
     """
     params = params.resolved()
-    if params.fill_gap <= 0 or len(strokes) < 2:
+    if fill.gap <= 0 or len(strokes) < 2:
         return strokes
     wide = replace(params, alpha=FILL_REACH * params.alpha)
-    return BiEdgePass(strokes, wide, memo, every_pair=True,
-                      fill=InkFill(lines_from(ink), params.fill_gap)).run()
+    return BiEdgePass(strokes, wide, memo, every_pair=True, fill=fill).run()
 
 
 @dataclass(eq=False)
@@ -112,6 +112,12 @@ class InkFill:
 
     def __post_init__(self) -> None:
         self.tree = shapely.STRtree(self.ink)
+
+    @classmethod
+    def of(cls, curves: list[np.ndarray], params: SimplifyParams) -> InkFill:
+        """The fill of the ink ``curves`` (the base curves) with ``params.fill_gap``
+        (params resolved)."""
+        return cls(lines_from(curves), params.fill_gap)
 
     def pairs(self, lines: np.ndarray, i: np.ndarray, j: np.ndarray,
               reach: float) -> np.ndarray:
