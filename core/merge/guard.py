@@ -1,7 +1,8 @@
-"""The distance guard: whatever a merge removes must lie within d_eps of what stays.
+"""The distance guard: whatever a patch merge removes must lie within a reach of what stays
+(:data:`core.merge.agglomeration.GUARD_REACH` d_eps).
 
-``covered(curves, allowed)`` asks whether every sample of ``curves`` lies within d_eps of
-one of the ``allowed`` curves. Base curves never change shape, so for a base curve the
+``covered(curves, allowed)`` asks whether every sample of ``curves`` lies within the reach
+of one of the ``allowed`` curves. Base curves never change shape, so for a base curve the
 nearby base curves that each cover all of it are found once, on first use; one of them
 among the allowed settles the question without geometry. Only what that cannot settle is
 measured, exactly.
@@ -63,17 +64,20 @@ def _allowed_one(curves: np.ndarray | frozenset[int],
 
 class DistanceGuard:
     def __init__(self, curves: list[np.ndarray], lines: np.ndarray, d_eps: float,
-                 curve_nodes: np.ndarray, node_curves: list[list[int]]) -> None:
-        """``curve_nodes`` (E, 2) and ``node_curves`` as in :class:`BaseComplex`."""
-        self.d_eps = d_eps
+                 curve_nodes: np.ndarray, node_curves: list[list[int]],
+                 reach: float | None = None) -> None:
+        """``curve_nodes`` (E, 2) and ``node_curves`` as in :class:`BaseComplex`; curves are
+        sampled as curve-curve pairing samples them at ``d_eps``, and measured against
+        ``reach`` (d_eps when not given)."""
+        self.reach = d_eps if reach is None else reach
         self.lines = lines
         self.tree = shapely.STRtree(lines)
         # at the spacing curve-curve pairing samples at, so that it can reuse these
         self.samples = CurveSamples(curves, sample_spacing(d_eps))
-        # a curve no longer than d_eps lies within d_eps of its end nodes, so within d_eps of
+        # a curve no longer than the reach lies within it of its end nodes, so within it of
         # any curve through one of them: settled without geometry (dense sketches are
         # mostly such crumbs between crossings)
-        self.short = shapely.length(lines) <= d_eps if len(lines) else np.zeros(0, bool)
+        self.short = shapely.length(lines) <= self.reach if len(lines) else np.zeros(0, bool)
         self.curve_nodes, self.node_curves = curve_nodes, node_curves
         # kept as small int arrays: in a dense sketch a curve has a hundred covers, and
         # Python sets of them would take hundreds of MB
@@ -85,7 +89,7 @@ class DistanceGuard:
         self._verdicts: dict[tuple, bool] = {}
 
     def cover(self, c: int) -> np.ndarray:
-        """Base curves (other than ``c``) within d_eps of every sample of base curve ``c``.
+        """Base curves (other than ``c``) within the reach of every sample of base curve ``c``.
 
         The curves near each end are asked of the index once per end point, as most curves
         of a dense sketch are crumbs between crossings sharing their ends with others;
@@ -97,17 +101,17 @@ class DistanceGuard:
             found = found[found != c]
             if len(pts) > 2 and len(found):
                 within = shapely.dwithin(shapely.points(pts[1:-1])[:, None],
-                                         self.lines[found][None, :], self.d_eps)
+                                         self.lines[found][None, :], self.reach)
                 found = found[within.all(axis=0)]
             self._cover[c] = found
         return self._cover[c]
 
     def _near_point(self, point: np.ndarray) -> np.ndarray:
-        """Base curves within d_eps of a point (sorted), asked once per point."""
+        """Base curves within the reach of a point (sorted), asked once per point."""
         key = (float(point[0]), float(point[1]))
         if key not in self._near_points:
             near = self.tree.query(shapely.points(point), predicate="dwithin",
-                                   distance=self.d_eps)
+                                   distance=self.reach)
             self._near_points[key] = np.sort(near).astype(np.int32)
         return self._near_points[key]
 
@@ -119,10 +123,10 @@ class DistanceGuard:
         return self._ends[c]
 
     def near(self, c: int) -> np.ndarray:
-        """Base curves (other than ``c``) whose boxes meet c's widened by d_eps."""
+        """Base curves (other than ``c``) whose boxes meet c's widened by the reach."""
         if c not in self._near:
             pts = self.samples[c]
-            lo, hi = pts.min(axis=0) - self.d_eps, pts.max(axis=0) + self.d_eps
+            lo, hi = pts.min(axis=0) - self.reach, pts.max(axis=0) + self.reach
             near = self.tree.query(shapely.box(*lo, *hi))
             self._near[c] = near[near != c].astype(np.int32)
         return self._near[c]
@@ -130,7 +134,7 @@ class DistanceGuard:
     def covered(self, removed: list[int], allowed: set[int] | PatchCurves,
                 extra: np.ndarray | None = None) -> bool:
         """Every sample of the ``removed`` base curves (and of ``extra`` points) within
-        d_eps of the ``allowed`` base curves."""
+        the reach of the ``allowed`` base curves."""
         if not allowed:
             return False
         unsettled = [c for c in removed if not self._settled(c, allowed)]
@@ -167,10 +171,10 @@ class DistanceGuard:
                  extra: np.ndarray | None) -> bool:
         pts = [self.samples[c] for c in removed] + ([extra] if extra is not None else [])
         points = np.concatenate(pts)
-        lo, hi = points.min(axis=0) - self.d_eps, points.max(axis=0) + self.d_eps
+        lo, hi = points.min(axis=0) - self.reach, points.max(axis=0) + self.reach
         cand = [c for c in self.tree.query(shapely.box(*lo, *hi)).tolist() if c in allowed]
         if not cand:
             return False
         near = shapely.dwithin(shapely.points(points)[:, None], self.lines[cand][None, :],
-                               self.d_eps)
+                               self.reach)
         return bool(near.any(axis=1).all())
