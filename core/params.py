@@ -65,7 +65,9 @@ class SimplifyParams:
     fill_gap      the widest band free of ink that may lie inside one bundle (a fraction
                   of D): output lines a little farther apart than d_eps whose space between
                   is filled by ink running along them, with no gap wider than this, are one
-                  bundle and merge (:func:`core.output.bi_edges.merge_filled_bundles`).
+                  bundle and merge (:func:`core.output.bi_edges.merge_filled_bundles`),
+                  and a stroke's end up to d_eps off another stroke is cut where the ink
+                  fills so between them (:func:`core.output.to_strokes.trim_doubled_ends`).
                   "auto" (default): the ink's spacing (:func:`ink_spacing`), at most
                   :data:`FILL_GAP_SHARE` of d_eps; 0: never. A result's params hold the
                   number used
