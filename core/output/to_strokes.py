@@ -441,10 +441,10 @@ DOUBLED_END = 2.0
 #: an end that runs farther than TRIM_NEAR d_eps from the other stroke, up to this many
 #: d_eps, is cut too where the ink fills the space between the two (:class:`InkFill`):
 #: one bundle drawn a little wide, not two lines drawn close (a spiral's rings, close
-#: construction lines), whose ends a cut would take away. Guarding such cuts by the ink
-#: they leave behind instead (none of it farther than (1 - fit_error) d_eps from the
-#: output) cut about as many (median doubled ink 0.052 either way; the ink's own guard
-#: must stay that tight, or the spirals lose ink)
+#: construction lines), whose ends a cut would take away. Also cutting where the ink a
+#: cut leaves behind stays within (1 - fit_error) d_eps of the output, filled or not, cut
+#: no more (median doubled ink 0.052 either way); within d_eps the spirals lose ink
+#: (spiral3 0.974), as their canvas is smaller than their ink
 TRIM_FILLED = 1.0
 
 
