@@ -16,7 +16,9 @@ from core.complex.patch_rings import (
     union_outline_points,
     union_rings,
 )
+from core.merge.agglomeration import GUARD_REACH, Agglomerator
 from core.merge.guard import DistanceGuard
+from core.params import SimplifyParams
 
 
 def grid(n: int = 4, wobble: float = 0.0, seed: int = 0) -> list[np.ndarray]:
@@ -145,3 +147,35 @@ def test_each_curves_cover_is_every_curve_near_all_its_samples():
         assert guard.cover(c).tolist() == np.flatnonzero(near_all).tolist()
         sizes.append(len(guard.samples[c]))
     assert min(sizes) == 2 and max(sizes) > 3  # crumbs and longer curves both seen
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_agglomerations_guard_measures_at_its_reach_and_samples_at_the_bundle_width(seed):
+    """The merge loop's guard reaches GUARD_REACH d_eps: it agrees with the brute force at
+    that reach, samples the curves as at d_eps (where curve-curve pairing shares them), and
+    lets fewer removals through than a guard reaching d_eps."""
+    rng = np.random.default_rng(seed)
+    strokes = [np.cumsum(rng.normal(0, 0.05, (10, 2)), axis=0) + rng.uniform(0, 0.3, 2)
+               for _ in range(12)]
+    cx = build_base_complex(strokes)
+    params = SimplifyParams(alpha=0.02)
+    guard = Agglomerator(cx, params).guard
+    reach = GUARD_REACH * params.alpha
+    assert guard.reach == reach
+    wide = DistanceGuard(cx.curves, lines_from(cx.curves), params.alpha, cx.curve_nodes,
+                         cx.node_curves)
+    n, narrow_ok, wide_ok = cx.num_curves, [], []
+    for _ in range(80):
+        removed = sorted(rng.choice(n, size=rng.integers(1, 3), replace=False).tolist())
+        allowed = set(rng.choice(n, size=rng.integers(1, 8), replace=False).tolist())
+        allowed |= set(cx.node_curves[cx.curve_nodes[removed[0], 0]])
+        allowed -= set(removed)
+        if not allowed:
+            continue
+        assert all(len(guard.samples[c]) == len(wide.samples[c]) for c in removed)
+        expected = brute_covered(guard.samples, cx.curves, removed, allowed, reach)
+        assert guard.covered(removed, allowed) == expected
+        narrow_ok.append(expected)
+        wide_ok.append(wide.covered(removed, allowed))
+    assert not any(a and not b for a, b in zip(narrow_ok, wide_ok))  # narrower: a subset
+    assert sum(narrow_ok) < sum(wide_ok)
