@@ -76,7 +76,7 @@ def merge_bi_edges(edges: list[Edge], params: SimplifyParams, memo: StrokeMemo,
 
 
 def merge_filled_bundles(strokes: list[Edge], params: SimplifyParams, memo: StrokeMemo,
-                         fill: InkFill) -> list[Edge]:
+                         fill: InkFill | None) -> list[Edge]:
     """Whole strokes after merging those that lie side by side up to :data:`FILL_REACH`
     d_eps apart where the ink (``fill``: the base curves, and ``params.fill_gap``) fills
     the space between them.
@@ -86,10 +86,11 @@ def merge_filled_bundles(strokes: list[Edge], params: SimplifyParams, memo: Stro
     close is in the ink between them: strokes running along the pair that leave no band
     wider than ``params.fill_gap`` free (:class:`InkFill`) are the one bundle; an empty
     band is the space between two lines. Such pairs are judged as by the bi-edge pass,
-    with d_eps widened to the reach.
+    with d_eps widened to the reach. ``fill`` None (``fill_gap`` 0): the strokes as they
+    were.
     """
     params = params.resolved()
-    if fill.gap <= 0 or len(strokes) < 2:
+    if fill is None or len(strokes) < 2:
         return strokes
     wide = replace(params, alpha=FILL_REACH * params.alpha)
     return BiEdgePass(strokes, wide, memo, every_pair=True, fill=fill).run()
@@ -114,10 +115,10 @@ class InkFill:
         self.tree = shapely.STRtree(self.ink)
 
     @classmethod
-    def of(cls, curves: list[np.ndarray], params: SimplifyParams) -> InkFill:
+    def of(cls, curves: list[np.ndarray], params: SimplifyParams) -> InkFill | None:
         """The fill of the ink ``curves`` (the base curves) with ``params.fill_gap``
-        (params resolved)."""
-        return cls(lines_from(curves), params.fill_gap)
+        (params resolved), or None when that is 0: no space counts as filled."""
+        return cls(lines_from(curves), params.fill_gap) if params.fill_gap > 0 else None
 
     def pairs(self, lines: np.ndarray, i: np.ndarray, j: np.ndarray,
               reach: float) -> np.ndarray:
