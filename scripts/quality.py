@@ -2,6 +2,7 @@
 issue, per source, with the five worst sketches of each, and far-ink invariance.
 
     python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
+                              [--data DIR]
     python scripts/quality.py --compare BEFORE.json AFTER.json [--pictures DIR --before-root
                               TREE]
 
@@ -11,6 +12,9 @@ fidelity in px, output strokes per input stroke and per intended curve, and on t
 sketches the F-score at 1% and the tight recall at 0.4% of the diagonal. ``--root``
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
+``--data`` scores another folder of .scap sketches laid out as ``../shared/data`` (a source
+folder each, a lift3d reference ``full_fit.scap`` beside its sketch), for example sketches held
+out from tuning; the folder is recorded in OUT.json for ``--pictures``.
 
 ``--pictures`` with ``--compare`` draws the five worst sketches of AFTER by doubled, ink
 kept, strokes per stroke in and tight recall, each as rough input | before (the checkout
@@ -57,8 +61,8 @@ def _setup(root: str) -> None:
     assert Path(core.__file__).resolve().parent.parent == Path(root).resolve(), core.__file__
 
 
-def score_one(args: tuple[str, str, str | None]) -> tuple[str, dict]:
-    root, path, svg_dir = args
+def score_one(args: tuple[str, str, str, str | None]) -> tuple[str, dict]:
+    root, data, path, svg_dir = args
     _setup(root)
     from bench_simplify import measure
 
@@ -70,7 +74,7 @@ def score_one(args: tuple[str, str, str | None]) -> tuple[str, dict]:
     except Exception as exc:  # noqa: BLE001 - a failure is a result here
         return path, {"error": f"{type(exc).__name__}: {exc}"}
     if svg_dir:
-        name = Path(path).relative_to(DATA).as_posix().replace("/", "__")
+        name = Path(path).relative_to(data).as_posix().replace("/", "__")
         write_sketch(result.to_sketch(), Path(svg_dir) / (Path(name).stem + ".svg"))
     return path, measure(Path(path), sketch, [s.points for s in result.strokes])
 
@@ -111,19 +115,20 @@ def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int
 
     from core import read_sketch
 
+    data = Path(after.get("_data", DATA))
     ok = scored(after)
     chosen: dict[str, str] = {}
     for m in WORST_OF:
         for k in worst(ok, m):
             chosen.setdefault(k, m)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = [str(DATA / k) for k in chosen]
+    paths = [str(data / k) for k in chosen]
     outs = {}
     for root in roots:  # a pool each: a worker imports one checkout's core
         with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
             outs[root] = list(pool.map(output_of, [(root, p) for p in paths]))
     for k, (key, measure) in enumerate(chosen.items()):
-        ink = [s.points for s in read_sketch(DATA / key).strokes]
+        ink = [s.points for s in read_sketch(data / key).strokes]
         panels = [(f"{short_name(key)}, worst by {measure} ({ok[key][measure]:.3f} after): "
                    f"input, {len(ink)} strokes", ink)] + [
             (f"{label}: {len(outs[root][k])} strokes", outs[root][k])
@@ -184,6 +189,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--only", default="", help="substring of the sketch paths to run")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--svg", help="write each output SVG into this folder")
+    ap.add_argument("--data", type=Path, default=DATA,
+                    help="folder of sketches to score, laid out as ../shared/data")
     ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--pictures", type=Path, help="with --compare: draw the worst here")
     ap.add_argument("--before-root", help="with --pictures: the checkout of BEFORE")
@@ -195,20 +202,22 @@ def main(argv: list[str] | None = None) -> int:
             roots = (str(Path(args.before_root).resolve()), str(Path(args.root).resolve()))
             worst_pictures(after, roots, args.pictures, args.jobs)
         return 0
-    if not DATA.is_dir():
-        print(f"no sketches at {DATA}: nothing to score")
+    data = args.data.resolve()
+    if not data.is_dir():
+        print(f"no sketches at {data}: nothing to score")
         return 0
-    files = sorted(str(p) for p in DATA.rglob("*.scap")
+    files = sorted(str(p) for p in data.rglob("*.scap")
                    if p.name != "full_fit.scap" and args.only in str(p))
     if args.svg:
         Path(args.svg).mkdir(parents=True, exist_ok=True)
     root = str(Path(args.root).resolve())
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-        rows = dict(pool.map(score_one, [(root, f, args.svg) for f in files]))
-        far = [str(DATA / p) for p in FAR_INK if (DATA / p).exists() and args.only in p]
+        rows = dict(pool.map(score_one, [(root, str(data), f, args.svg) for f in files]))
+        far = [str(data / p) for p in FAR_INK if (data / p).exists() and args.only in p]
         far_rows = dict(pool.map(far_ink, [(root, f) for f in far]))
-    out = {str(Path(k).relative_to(DATA)): v for k, v in rows.items()}
-    out["_far"] = {"far_ink": {str(Path(k).relative_to(DATA)): v for k, v in far_rows.items()}}
+    out = {str(Path(k).relative_to(data)): v for k, v in rows.items()}
+    out["_far"] = {"far_ink": {str(Path(k).relative_to(data)): v for k, v in far_rows.items()}}
+    out["_data"] = str(data)
     if args.out:
         Path(args.out).write_text(json.dumps(out, indent=1))
     print(summary(out))
