@@ -122,7 +122,7 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
             timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
-    fitted = to_strokes(state, params, memo)
+    fitted = to_strokes(state, params, memo, ink)
     t1 = time.perf_counter()
     strokes = []
     for f, ink_of in zip(fitted, ink.transfer([f.points for f in fitted])):

@@ -778,14 +778,25 @@ def test_a_new_epsilon_in_the_redo_panel_is_a_replay(monkeypatch):
     ob = make_object({1: "fish"})
     runs = run.REPLAY.runs
     assert bpy.ops.sketchsimp.simplify(epsilon=0.02, output="REPLACE") == {"FINISHED"}
-    replaced = len(strokes_of(ob.data.layers["Lines"].frames[0].drawing))
+    first = strokes_of(ob.data.layers["Lines"].frames[0].drawing)
     clear_scene()
     ob = make_object({1: "fish"})  # the same drawing again, as after an undo
     assert bpy.ops.sketchsimp.simplify(epsilon=0.01, output="REPLACE") == {"FINISHED"}
     assert run.REPLAY.runs == runs + 1  # the second epsilon was replayed, not re-run
-    assert len(strokes_of(ob.data.layers["Lines"].frames[0].drawing)) >= replaced
+    replayed = strokes_of(ob.data.layers["Lines"].frames[0].drawing)
     clear_scene()  # the top of the slider replays too: the first run covered it all
     ob = make_object({1: "fish"})
     assert bpy.ops.sketchsimp.simplify(epsilon=EPSILON_SOFT_MAX, output="REPLACE") == {
         "FINISHED"}
     assert run.REPLAY.runs == runs + 1
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())  # the replayed epsilon, run afresh
+    clear_scene()
+    ob = make_object({1: "fish"})
+    assert bpy.ops.sketchsimp.simplify(epsilon=0.01, output="REPLACE") == {"FINISHED"}
+    assert run.REPLAY.runs == 1
+    fresh = strokes_of(ob.data.layers["Lines"].frames[0].drawing)
+
+    def same(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
+        return len(a) == len(b) and all(np.allclose(x, y, atol=1e-5) for x, y in zip(a, b))
+
+    assert same(replayed, fresh) and not same(replayed, first)

@@ -17,6 +17,7 @@ from test_base_complex import overshooting_side, short_crossing
 
 from core import Sketch, SketchError, Stroke, read_sketch, simplify, write_sketch
 from core.arrays.geometry import lines_from
+from core.output.attributes import NearestInk
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import join_edges, trim_spurs
 from core.params import SimplifyParams
@@ -506,6 +507,42 @@ def test_the_two_sides_of_a_hairpin_left_unmerged_join_again_as_one_stroke():
     assert sorted(len(e.points) for e in joined) == [2, 3]
     assert len(join_edges(build_graph([leaving(d) for d in (0, 40, 95)], 0.001),
                           SimplifyParams())) == 3  # 40 degrees apart: two lines, not a tip
+
+
+def turn_and_crossing() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A line to (1, 0), a line from there back up-left (a turn of 122 degrees, past the
+    join angle) and a line straight across the turn."""
+    t = np.linspace(0, 1, 60)[:, None]
+    return (np.hstack([t, 0 * t]), np.hstack([1 - 0.5 * t, 0.8 * t]),
+            np.hstack([1 + 0 * t, t - 0.5]))
+
+
+def test_a_line_drawn_through_a_crossing_at_a_sharp_turn_stays_one_stroke():
+    """Drawn in one motion, the turn is one stroke and the line across it another; the same
+    lines drawn as two strokes that meet at the crossing stay two."""
+    arm, back, across = turn_and_crossing()
+    one = simplify(Sketch([Stroke(np.vstack([arm, back[1:]])), Stroke(across)])).strokes
+    assert len(one) == 2
+    turn = max(one, key=lambda s: len(s.points)).points
+    assert max_distance_to(np.vstack([arm, back]), [turn]) < 0.01  # both arms, one stroke
+    assert len(simplify(Sketch([Stroke(arm), Stroke(back), Stroke(across)])).strokes) == 3
+
+
+def test_ends_meeting_at_a_node_join_where_an_input_stroke_runs_from_one_onto_the_other():
+    """Step 8 on whole strokes: the two arms of the turn end at the node the line across
+    passes. Given the ink as one stroke they join; as two strokes, or without the ink
+    (only two ends at the node), they do not."""
+    arm, back, across = turn_and_crossing()
+    edges = [Edge(arm), Edge(back[::-1].copy()), Edge(across)]
+    graph = build_graph(edges, 0.001)
+
+    def ink_of(*strokes: np.ndarray) -> NearestInk:
+        return NearestInk([Stroke(p) for p in strokes], list(strokes))
+
+    drawn = join_edges(graph, SimplifyParams(), ink=ink_of(np.vstack([arm, back[1:]]), across))
+    assert len(drawn) == 2
+    assert len(join_edges(graph, SimplifyParams(), ink=ink_of(arm, back, across))) == 3
+    assert len(join_edges(graph, SimplifyParams(), at_junctions=False)) == 2  # chained: no ink
 
 
 def test_free_ends_closer_than_the_bundle_width_that_continue_join_across_the_gap():

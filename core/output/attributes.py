@@ -18,7 +18,7 @@ from ..arrays.polylines import arc_lengths
 from ..sketch import Stroke
 from .memo import LruStore
 
-__all__ = ["Carried", "NearestInk"]
+__all__ = ["Carried", "InkNear", "NearestInk"]
 
 
 @dataclass(frozen=True)
@@ -35,6 +35,16 @@ class Carried:
         return Carried(None if self.width is None else self.width.copy(),
                        None if self.pressure is None else self.pressure.copy(),
                        self.style, self.sources)
+
+
+@dataclass(frozen=True)
+class InkNear:
+    """The input strokes passing near some points: one row for each point and each segment
+    of a stroke within the radius asked."""
+
+    point: np.ndarray  #: which point
+    stroke: np.ndarray  #: which input stroke (its index among the strokes given)
+    at: np.ndarray  #: where along it: the running arc length (:class:`NearestInk`)
 
 
 class NearestInk:
@@ -71,6 +81,15 @@ class NearestInk:
             return None
         return np.concatenate([a if a is not None else np.full(len(st.points), np.nan)
                                for a, st in zip(arrays, self.strokes)])
+
+    def passing(self, points: np.ndarray, radius: float) -> InkNear:
+        """The input strokes passing within ``radius`` of each of ``points`` (n, 2), and
+        where along each they come nearest (a stroke passing near twice: twice)."""
+        geoms = shapely.points(points)
+        i, seg = self.tree.query(geoms, predicate="dwithin", distance=radius)
+        at = self.running[self.segment_start[seg]] + shapely.line_locate_point(
+            self.segments[seg], geoms[i])
+        return InkNear(i, self.segment_stroke[seg], at)
 
     def _nearest(self, geoms: np.ndarray) -> np.ndarray:
         """Index of the nearest input segment of each point. A search bounded to a small
