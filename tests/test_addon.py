@@ -797,6 +797,7 @@ def test_a_new_epsilon_in_the_redo_panel_is_a_replay(monkeypatch):
     fresh = strokes_of(ob.data.layers["Lines"].frames[0].drawing)
 
     def same(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
-        return len(a) == len(b) and all(np.allclose(x, y, atol=1e-5) for x, y in zip(a, b))
+        return len(a) == len(b) and all(x.shape == y.shape and np.allclose(x, y, atol=1e-5)
+                                        for x, y in zip(a, b))
 
     assert same(replayed, fresh) and not same(replayed, first)

@@ -530,8 +530,9 @@ def test_a_line_drawn_through_a_crossing_at_a_sharp_turn_stays_one_stroke():
 
 def test_ends_meeting_at_a_node_join_where_an_input_stroke_runs_from_one_onto_the_other():
     """Step 8 on whole strokes: the two arms of the turn end at the node the line across
-    passes. Given the ink as one stroke they join; as two strokes, or without the ink
-    (only two ends at the node), they do not."""
+    passes. Given the ink as one stroke they join; as two strokes they do not; without
+    the ink (step 5) two ends alone at a node are chained. Ends a little apart, too sharp
+    a turn to continue each other, join across the gap only where drawn through."""
     arm, back, across = turn_and_crossing()
     edges = [Edge(arm), Edge(back[::-1].copy()), Edge(across)]
     graph = build_graph(edges, 0.001)
@@ -543,6 +544,12 @@ def test_ends_meeting_at_a_node_join_where_an_input_stroke_runs_from_one_onto_th
     assert len(drawn) == 2
     assert len(join_edges(graph, SimplifyParams(), ink=ink_of(arm, back, across))) == 3
     assert len(join_edges(graph, SimplifyParams(), at_junctions=False)) == 2  # chained: no ink
+    # the same turn with a gap narrower than d_eps (0.012) between the two ends
+    apart = build_graph([Edge(arm), Edge(back[::-1] + [0.006, 0.0])], 0.001)
+    assert len(apart.nodes) == 4
+    assert len(join_edges(apart, SimplifyParams(),
+                          ink=ink_of(np.vstack([arm, back[1:] + [0.006, 0.0]])))) == 1
+    assert len(join_edges(apart, SimplifyParams(), ink=ink_of(arm, back + [0.006, 0.0]))) == 2
 
 
 def test_free_ends_closer_than_the_bundle_width_that_continue_join_across_the_gap():

@@ -69,17 +69,20 @@
    more than ``join_angle`` (a cusp of handwriting, a loop drawn over a crossing), and
    step 7 leaves new ends where it cut. Where the input strokes show one motion of the pen
    from one end onto another (:class:`DrawnThrough`: an input stroke passes near both
-   edges and runs between them by no longer a way than through the node), the two ends
-   join, whatever the turn; ends meeting by chance, each drawn to the node, stay apart.
-   Run once on the whole strokes, after the merges and cuts: at step 5, joined pieces
-   made strokes longer before the passes beside them were merged or cut, and doubled ink
-   rose (ghi 0.139 -> 0.282, stu 0.055 -> 0.140). On the 101 dev sketches: strokes per
-   intended curve 0.962 -> 0.800 (study drawings 1.780 -> 1.213: def 22 strokes -> 13,
-   vwx 20 -> 10; product sketches 0.915 -> 0.726, cartoons 0.812 -> 0.679), doubled ink
-   0.041 -> 0.035 (study drawings 0.104 -> 0.076), tight recall 0.836 -> 0.834, distance
-   to the ink 0.500 -> 0.508 px, ink kept unchanged. On 89 sketches held out from the
-   same three sources: strokes per intended curve 0.867 -> 0.743, doubled ink unchanged
-   (0.042), and siggraph (29 strokes in, 33 out) comes out as 23 strokes.
+   edges and the node between them, by no longer a way than through the node), the two
+   ends join, whatever the turn; ends meeting by chance, each drawn to the node, stay
+   apart. Free ends across a gap narrower than d_eps (step 5's gap joins) join the same
+   way. Run once on the whole strokes, after the merges and cuts: at step 5, joined
+   pieces made strokes longer before the passes beside them were merged or cut, and
+   doubled ink rose (ghi 0.139 -> 0.282, stu 0.055 -> 0.140). Without the node between,
+   the ends of two lines side by side joined into a hairpin through the pass between
+   them. On the 101 dev sketches: strokes per intended curve 0.962 -> 0.756 (study
+   drawings 1.780 -> 1.172: def 22 strokes -> 13, vwx 20 -> 10; product sketches 0.915
+   -> 0.733, cartoons 0.812 -> 0.679), doubled ink 0.041 -> 0.036 (study drawings 0.104
+   -> 0.075), tight recall 0.836 -> 0.835, distance to the ink 0.500 -> 0.506 px, ink
+   kept unchanged (worst 0.987). On 89 sketches held out from the same three sources:
+   strokes per intended curve 0.867 -> 0.738, doubled ink unchanged (0.042), and
+   siggraph (29 strokes in, 33 out) comes out as 23 strokes.
 9. Each stroke is fitted with piecewise cubic Beziers, corners kept.
 """
 
@@ -121,10 +124,10 @@ from .memo import StrokeMemo, shape_key
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
 __all__ = [
-    "DOUBLED_END", "DoubledEnd", "DrawnThrough", "EXACT_JUNCTION", "FittedStroke", "THROUGH_DETOUR",
-    "TIP_JOIN", "TRIM_FILLED", "TRIM_NEAR", "close_loops", "continuations", "contract_short_edges",
-    "join_edges", "linework", "renode", "split_at_tips", "to_strokes", "trim_doubled_ends",
-    "trim_spurs",
+    "DOUBLED_END", "DoubledEnd", "DrawnThrough", "EXACT_JUNCTION", "FittedStroke", "InkRows",
+    "THROUGH_DETOUR", "TIP_JOIN", "TRIM_FILLED", "TRIM_NEAR", "close_loops", "continuations",
+    "contract_short_edges", "join_edges", "linework", "renode", "split_at_tips", "to_strokes",
+    "trim_doubled_ends", "trim_spurs",
 ]
 
 
@@ -287,9 +290,10 @@ TIP_JOIN = 25.0
 
 
 def _bridge_gaps(graph: StrokeGraph, link: np.ndarray, directions: np.ndarray, gap: float,
-                 cos_join: float) -> None:
+                 cos_join: float, through: DrawnThrough | None = None) -> None:
     """Link free ends (their node has no other edge, no link yet) within ``gap`` of each
-    other that continue each other, nearest first."""
+    other that continue each other, or (``through`` given) that an input stroke runs from
+    one onto the other, nearest first."""
     at = graph.nodes[graph.ends.ravel()]  # where each end is
     free = np.flatnonzero((graph.degree()[graph.ends.ravel()] == 1) & (link < 0))
     if len(free) < 2:
@@ -299,6 +303,9 @@ def _bridge_gaps(graph: StrokeGraph, link: np.ndarray, directions: np.ndarray, g
     keep = (x < y) & (free[x] >> 1 != free[y] >> 1)
     x, y = free[x[keep]], free[y[keep]]
     smooth = -(directions[x] * directions[y]).sum(axis=1) >= cos_join
+    if through is not None:
+        smooth |= np.fromiter((through.drawn(a, b) for a, b in zip(x.tolist(), y.tolist())),
+                              dtype=bool, count=len(x))
     x, y = x[smooth], y[smooth]
     dist = np.hypot(*(at[x] - at[y]).T)
     for k in np.lexsort((y, x, dist)).tolist():
@@ -314,21 +321,45 @@ THROUGH_DETOUR = 1.5
 
 
 @dataclass(frozen=True)
+class InkRows:
+    """The input strokes passing near each of some points, grouped by point: the rows of
+    point k are ``first[k]:first[k + 1]``."""
+
+    first: np.ndarray  #: (n + 1,) where each point's rows start (and where the last ends)
+    stroke: np.ndarray  #: input stroke of each row
+    at: np.ndarray  #: where along it (running arc length) it passes the point
+
+    @classmethod
+    def near(cls, ink: NearestInk, points: np.ndarray, radius: float) -> InkRows:
+        passing = ink.passing(points, radius)
+        order = np.argsort(passing.point, kind="stable")
+        first = np.searchsorted(passing.point[order], np.arange(len(points) + 1))
+        return cls(first, passing.stroke[order], passing.at[order])
+
+    def of(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """The strokes passing near point k, and where along each."""
+        rows = slice(self.first[k], self.first[k + 1])
+        return self.stroke[rows], self.at[rows]
+
+
+@dataclass(frozen=True)
 class DrawnThrough:
     """Which ends of a graph's edges an input stroke runs through, from one onto the other
     (step 8 of the module docstring).
 
     Each end has a probe: the point of its edge ``reach`` from it (half the edge, if that
-    is shorter). An input stroke passing within ``reach / 2`` of the probes of two ends of
-    one node, and running between them no longer than :data:`THROUGH_DETOUR` times the way
-    from probe to node to probe (and the radius either side), was drawn from one edge onto
-    the other: one motion of the pen, whatever the turn.
+    is shorter). An input stroke that passes within ``reach / 2`` of the probes of two
+    ends, and of their nodes between the two, running from probe to probe no longer than
+    :data:`THROUGH_DETOUR` times the way from probe to node (to node) to probe (and the
+    radius either side), was drawn from one edge onto the other: one motion of the pen,
+    whatever the turn. Passing near both probes alone is not enough: the two ends of two
+    lines side by side have probes side by side, and a pass between them near both.
     """
 
     way: np.ndarray  #: (2E,) how far each end's probe lies from the end's node
-    first: np.ndarray  #: (2E + 1,) where each end's rows of ``near`` start (and the last end)
-    stroke: np.ndarray  #: input stroke of each row, rows grouped by end
-    at: np.ndarray  #: where along it (running arc length) it passes the end's probe
+    node: np.ndarray  #: (2E, 2) where each end is
+    at_probe: InkRows  #: the ink near each end's probe
+    at_node: InkRows  #: the ink near each end's node
     radius: float
 
     @classmethod
@@ -337,19 +368,26 @@ class DrawnThrough:
         along = np.minimum(reach, 0.5 * np.repeat(graph.lengths(), 2))
         probes = shapely.get_coordinates(shapely.line_interpolate_point(lines_from(walks),
                                                                         along))
-        way = np.hypot(*(probes - graph.nodes[graph.ends.ravel()]).T)
-        near = ink.passing(probes, reach / 2)
-        order = np.argsort(near.point, kind="stable")
-        first = np.searchsorted(near.point[order], np.arange(len(probes) + 1))
-        return cls(way, first, near.stroke[order], near.at[order], reach / 2)
+        node = graph.nodes[graph.ends.ravel()]
+        return cls(np.hypot(*(probes - node).T), node, InkRows.near(ink, probes, reach / 2),
+                   InkRows.near(ink, node, reach / 2), reach / 2)
 
     def drawn(self, x: int, y: int) -> bool:
-        """Whether an input stroke runs from end ``x`` through their node onto end ``y``."""
-        sx, ax = (v[self.first[x]:self.first[x + 1]] for v in (self.stroke, self.at))
-        sy, ay = (v[self.first[y]:self.first[y + 1]] for v in (self.stroke, self.at))
-        longest = THROUGH_DETOUR * (self.way[x] + self.way[y]) + 2 * self.radius
-        return bool(((sx[:, None] == sy[None, :])
-                     & (np.abs(ax[:, None] - ay[None, :]) <= longest)).any())
+        """Whether an input stroke runs from end ``x`` through their node (or across the gap
+        between their nodes) onto end ``y``."""
+        sx, ax = self.at_probe.of(x)
+        sy, ay = self.at_probe.of(y)
+        way = self.way[x] + np.hypot(*(self.node[x] - self.node[y])) + self.way[y]
+        i, j = np.nonzero((sx[:, None] == sy[None, :])
+                          & (np.abs(ax[:, None] - ay[None, :]) <= THROUGH_DETOUR * way
+                             + 2 * self.radius))
+        stroke, lo, hi = sx[i], np.minimum(ax[i], ay[j]), np.maximum(ax[i], ay[j])
+        for end in (x, y):  # and near the node(s) on the way
+            sn, an = self.at_node.of(end)
+            stroke_ok = ((sn[None, :] == stroke[:, None]) & (an[None, :] >= lo[:, None])
+                         & (an[None, :] <= hi[:, None])).any(axis=1)
+            stroke, lo, hi = stroke[stroke_ok], lo[stroke_ok], hi[stroke_ok]
+        return len(stroke) > 0
 
 
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True,
@@ -400,7 +438,7 @@ def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = 
         for x, y in paired + continuations(len(ends), tips):
             link[ends[x]], link[ends[y]] = ends[y], ends[x]
     if at_junctions:
-        _bridge_gaps(graph, link, directions, reach / 2, cos_join)
+        _bridge_gaps(graph, link, directions, reach / 2, cos_join, through)
     strokes = []
     done = np.zeros(n_edges, dtype=bool)
 
