@@ -18,7 +18,7 @@ from ..arrays.polylines import arc_lengths
 from ..sketch import Stroke
 from .memo import LruStore
 
-__all__ = ["Carried", "InkNear", "NearestInk"]
+__all__ = ["Carried", "InkRows", "NearestInk"]
 
 
 @dataclass(frozen=True)
@@ -38,13 +38,19 @@ class Carried:
 
 
 @dataclass(frozen=True)
-class InkNear:
-    """The input strokes passing near some points: one row for each point and each segment
-    of a stroke within the radius asked."""
+class InkRows:
+    """The input strokes passing near each of some points (:meth:`NearestInk.passing`),
+    grouped by point: the rows of point k are ``first[k]:first[k + 1]``, one for each
+    segment of a stroke within the radius asked."""
 
-    point: np.ndarray  #: which point
-    stroke: np.ndarray  #: which input stroke (its index among the strokes given)
-    at: np.ndarray  #: where along it: the running arc length (:class:`NearestInk`)
+    first: np.ndarray  #: (n + 1,) where each point's rows start (and where the last ends)
+    stroke: np.ndarray  #: input stroke of each row (its index among the strokes given)
+    at: np.ndarray  #: where along it it passes the point: the running arc length
+
+    def of(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """The strokes passing near point k, and where along each."""
+        rows = slice(self.first[k], self.first[k + 1])
+        return self.stroke[rows], self.at[rows]
 
 
 class NearestInk:
@@ -82,14 +88,17 @@ class NearestInk:
         return np.concatenate([a if a is not None else np.full(len(st.points), np.nan)
                                for a, st in zip(arrays, self.strokes)])
 
-    def passing(self, points: np.ndarray, radius: float) -> InkNear:
+    def passing(self, points: np.ndarray, radius: float) -> InkRows:
         """The input strokes passing within ``radius`` of each of ``points`` (n, 2), and
         where along each they come nearest (a stroke passing near twice: twice)."""
         geoms = shapely.points(points)
         i, seg = self.tree.query(geoms, predicate="dwithin", distance=radius)
+        order = np.argsort(i, kind="stable")
+        i, seg = i[order], seg[order]
         at = self.running[self.segment_start[seg]] + shapely.line_locate_point(
             self.segments[seg], geoms[i])
-        return InkNear(i, self.segment_stroke[seg], at)
+        return InkRows(np.searchsorted(i, np.arange(len(points) + 1)),
+                       self.segment_stroke[seg], at)
 
     def _nearest(self, geoms: np.ndarray) -> np.ndarray:
         """Index of the nearest input segment of each point. A search bounded to a small

@@ -111,7 +111,7 @@ from ..arrays.polylines import (
 from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
 from ..params import SimplifyParams
-from .attributes import NearestInk
+from .attributes import InkRows, NearestInk
 from .bezier import (
     SAMPLES_PER_SEGMENT,
     corner_indices,
@@ -124,7 +124,7 @@ from .memo import StrokeMemo, shape_key
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
 __all__ = [
-    "DOUBLED_END", "DoubledEnd", "DrawnThrough", "EXACT_JUNCTION", "FittedStroke", "InkRows",
+    "DOUBLED_END", "DoubledEnd", "DrawnThrough", "EXACT_JUNCTION", "FittedStroke",
     "THROUGH_DETOUR", "TIP_JOIN", "TRIM_FILLED", "TRIM_NEAR", "close_loops", "continuations",
     "contract_short_edges", "join_edges", "linework", "renode", "split_at_tips", "to_strokes",
     "trim_doubled_ends", "trim_spurs",
@@ -321,28 +321,6 @@ THROUGH_DETOUR = 1.5
 
 
 @dataclass(frozen=True)
-class InkRows:
-    """The input strokes passing near each of some points, grouped by point: the rows of
-    point k are ``first[k]:first[k + 1]``."""
-
-    first: np.ndarray  #: (n + 1,) where each point's rows start (and where the last ends)
-    stroke: np.ndarray  #: input stroke of each row
-    at: np.ndarray  #: where along it (running arc length) it passes the point
-
-    @classmethod
-    def near(cls, ink: NearestInk, points: np.ndarray, radius: float) -> InkRows:
-        passing = ink.passing(points, radius)
-        order = np.argsort(passing.point, kind="stable")
-        first = np.searchsorted(passing.point[order], np.arange(len(points) + 1))
-        return cls(first, passing.stroke[order], passing.at[order])
-
-    def of(self, k: int) -> tuple[np.ndarray, np.ndarray]:
-        """The strokes passing near point k, and where along each."""
-        rows = slice(self.first[k], self.first[k + 1])
-        return self.stroke[rows], self.at[rows]
-
-
-@dataclass(frozen=True)
 class DrawnThrough:
     """Which ends of a graph's edges an input stroke runs through, from one onto the other
     (step 8 of the module docstring).
@@ -369,8 +347,8 @@ class DrawnThrough:
         probes = shapely.get_coordinates(shapely.line_interpolate_point(lines_from(walks),
                                                                         along))
         node = graph.nodes[graph.ends.ravel()]
-        return cls(np.hypot(*(probes - node).T), node, InkRows.near(ink, probes, reach / 2),
-                   InkRows.near(ink, node, reach / 2), reach / 2)
+        return cls(np.hypot(*(probes - node).T), node, ink.passing(probes, reach / 2),
+                   ink.passing(node, reach / 2), reach / 2)
 
     def drawn(self, x: int, y: int) -> bool:
         """Whether an input stroke runs from end ``x`` through their node (or across the gap
