@@ -90,7 +90,14 @@ class NearestInk:
 
     def passing(self, points: np.ndarray, radius: float) -> InkRows:
         """The input strokes passing within ``radius`` of each of ``points`` (n, 2), and
-        where along each they come nearest (a stroke passing near twice: twice)."""
+        where along each they come nearest (a stroke passing near twice: twice).
+
+        >>> line = np.array([[0.0, 0.0], [1.0, 0.0]])
+        >>> rows = NearestInk([Stroke(line)], [line]).passing(np.array([[0.5, 0.05],
+        ...                                                              [0.5, 1.0]]), 0.1)
+        >>> [(s.tolist(), at.round(2).tolist()) for s, at in (rows.of(0), rows.of(1))]
+        [([0], [0.5]), ([], [])]
+        """
         geoms = shapely.points(points)
         i, seg = self.tree.query(geoms, predicate="dwithin", distance=radius)
         order = np.argsort(i, kind="stable")
