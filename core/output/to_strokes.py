@@ -335,9 +335,10 @@ class DrawnThrough:
     """
 
     way: np.ndarray  #: (2E,) how far each end's probe lies from the end's node
-    node: np.ndarray  #: (2E, 2) where each end is
+    end_node: np.ndarray  #: (2E,) the node of each end
+    nodes: np.ndarray  #: (V, 2) where each node is
     at_probe: InkRows  #: the ink near each end's probe
-    at_node: InkRows  #: the ink near each end's node
+    at_node: InkRows  #: the ink near each node
     radius: float
 
     @classmethod
@@ -346,22 +347,24 @@ class DrawnThrough:
         along = np.minimum(reach, 0.5 * np.repeat(graph.lengths(), 2))
         probes = shapely.get_coordinates(shapely.line_interpolate_point(lines_from(walks),
                                                                         along))
-        node = graph.nodes[graph.ends.ravel()]
-        return cls(np.hypot(*(probes - node).T), node, ink.passing(probes, reach / 2),
-                   ink.passing(node, reach / 2), reach / 2)
+        end_node = graph.ends.ravel()
+        return cls(np.hypot(*(probes - graph.nodes[end_node]).T), end_node, graph.nodes,
+                   ink.passing(probes, reach / 2), ink.passing(graph.nodes, reach / 2),
+                   reach / 2)
 
     def drawn(self, x: int, y: int) -> bool:
         """Whether an input stroke runs from end ``x`` through their node (or across the gap
         between their nodes) onto end ``y``."""
         sx, ax = self.at_probe.of(x)
         sy, ay = self.at_probe.of(y)
-        way = self.way[x] + np.hypot(*(self.node[x] - self.node[y])) + self.way[y]
+        nx, ny = int(self.end_node[x]), int(self.end_node[y])
+        way = self.way[x] + np.hypot(*(self.nodes[nx] - self.nodes[ny])) + self.way[y]
         i, j = np.nonzero((sx[:, None] == sy[None, :])
                           & (np.abs(ax[:, None] - ay[None, :]) <= THROUGH_DETOUR * way
                              + 2 * self.radius))
         stroke, lo, hi = sx[i], np.minimum(ax[i], ay[j]), np.maximum(ax[i], ay[j])
-        for end in (x, y):  # and near the node(s) on the way
-            sn, an = self.at_node.of(end)
+        for node in dict.fromkeys((nx, ny)):  # and near the node(s) on the way
+            sn, an = self.at_node.of(node)
             stroke_ok = ((sn[None, :] == stroke[:, None]) & (an[None, :] >= lo[:, None])
                          & (an[None, :] <= hi[:, None])).any(axis=1)
             stroke, lo, hi = stroke[stroke_ok], lo[stroke_ok], hi[stroke_ok]
