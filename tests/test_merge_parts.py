@@ -92,7 +92,7 @@ def test_guard_agrees_with_brute_force(seed):
     d_eps = 0.02
     unconnected = np.arange(50).reshape(25, 2)  # each curve its own two end nodes
     guard = DistanceGuard(curves, lines_from(curves), d_eps, unconnected,
-                          [[c] for c in range(25) for _ in range(2)])
+                          [[c] for c in range(25) for _ in range(2)], d_eps)
     for _ in range(60):
         removed = sorted(rng.choice(25, size=rng.integers(1, 3), replace=False).tolist())
         allowed = set(rng.choice(25, size=rng.integers(1, 6), replace=False).tolist())
@@ -112,7 +112,7 @@ def test_guard_agrees_with_brute_force_on_crumbs_between_crossings(seed):
     cx = build_base_complex(strokes)
     d_eps = 0.02
     guard = DistanceGuard(cx.curves, lines_from(cx.curves), d_eps, cx.curve_nodes,
-                          cx.node_curves)
+                          cx.node_curves, d_eps)
     assert guard.short.sum() > 5
     n, verdicts = cx.num_curves, []
     for _ in range(80):
@@ -138,7 +138,7 @@ def test_each_curves_cover_is_every_curve_near_all_its_samples():
     cx = build_base_complex(strokes)
     d_eps = 0.02
     lines = lines_from(cx.curves)
-    guard = DistanceGuard(cx.curves, lines, d_eps, cx.curve_nodes, cx.node_curves)
+    guard = DistanceGuard(cx.curves, lines, d_eps, cx.curve_nodes, cx.node_curves, d_eps)
     sizes = []
     for c in range(cx.num_curves):
         pts = shapely.points(guard.samples[c])
@@ -163,7 +163,7 @@ def test_the_agglomerations_guard_measures_at_its_reach_and_samples_at_the_bundl
     reach = GUARD_REACH * params.alpha
     assert guard.reach == reach
     wide = DistanceGuard(cx.curves, lines_from(cx.curves), params.alpha, cx.curve_nodes,
-                         cx.node_curves)
+                         cx.node_curves, params.alpha)
     n, narrow_ok, wide_ok = cx.num_curves, [], []
     for _ in range(80):
         removed = sorted(rng.choice(n, size=rng.integers(1, 3), replace=False).tolist())

@@ -64,12 +64,11 @@ def _allowed_one(curves: np.ndarray | frozenset[int],
 
 class DistanceGuard:
     def __init__(self, curves: list[np.ndarray], lines: np.ndarray, d_eps: float,
-                 curve_nodes: np.ndarray, node_curves: list[list[int]],
-                 reach: float | None = None) -> None:
+                 curve_nodes: np.ndarray, node_curves: list[list[int]], reach: float) -> None:
         """``curve_nodes`` (E, 2) and ``node_curves`` as in :class:`BaseComplex`; curves are
         sampled as curve-curve pairing samples them at ``d_eps``, and measured against
-        ``reach`` (d_eps when not given)."""
-        self.reach = d_eps if reach is None else reach
+        ``reach``."""
+        self.reach = reach
         self.lines = lines
         self.tree = shapely.STRtree(lines)
         # at the spacing curve-curve pairing samples at, so that it can reuse these
