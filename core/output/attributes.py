@@ -73,6 +73,9 @@ class NearestInk:
         self.segments = shapely.linestrings(
             np.stack([flat[starts], flat[starts + 1]], axis=1))
         self.segment_start = starts
+        # each segment as o + u v, u in [0, 1]: what a cross-section meets (placement)
+        self.segment_origin = flat[starts]
+        self.segment_vector = flat[starts + 1] - flat[starts]
         self.segment_stroke = np.repeat(np.arange(len(unit_points)),
                                         [len(p) - 1 for p in unit_points])
         self.tree = shapely.STRtree(self.segments)

@@ -83,7 +83,9 @@
    kept unchanged (worst 0.987). On 89 sketches held out from the same three sources:
    strokes per intended curve 0.867 -> 0.738, doubled ink unchanged (0.042), and
    siggraph (29 strokes in, 33 out) comes out as 23 strokes.
-9. Each stroke is fitted with piecewise cubic Beziers, corners kept.
+9. Placement: each line moves onto the middle of the input ink it stands for, junctions
+   held (:mod:`core.output.placement`). Not at epsilon 0.
+10. Each stroke is fitted with piecewise cubic Beziers, corners kept.
 """
 
 from __future__ import annotations
@@ -121,6 +123,7 @@ from .bezier import (
 )
 from .bi_edges import InkFill, merge_bi_edges, merge_filled_bundles
 from .memo import StrokeMemo, shape_key
+from .placement import PLACE_REACH, centred_on_ink
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
 __all__ = [
@@ -701,7 +704,7 @@ def _joined_again(merged: list[Edge], strokes: list[Edge], params: SimplifyParam
 def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
                ink: NearestInk | None = None) -> list[FittedStroke]:
     """Output strokes (unit frame) of a simplified complex; ``ink``, the input strokes,
-    for step 8 (without: no step 8).
+    for steps 8 and 9 (without: neither).
 
     ``memo`` keeps Bezier fits and the bi-edge pass's work by content: results replayed at
     other epsilons (a slider) share most strokes and most pairs of edges.
@@ -714,7 +717,6 @@ def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
     graph = build_graph(renode(edges), snap)
     graph = trim_spurs(graph, d_eps, np.cos(np.radians(params.join_angle)))
     graph = contract_short_edges(graph, d_eps, params.beta)
-    strokes = []
     joined = close_loops(join_edges(graph, params), d_eps)
     # step 6: whole strokes that still run side by side, every pair judged (the merge loop
     # judged free curves only as the pieces they were then)
@@ -729,15 +731,20 @@ def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
                                    fill, TRIM_FILLED * d_eps)
         if ink is not None:  # step 8: ends drawn through a junction
             joined = close_loops(join_edges(build_graph(joined, snap), params, ink=ink), d_eps)
+    lines, closed = [], []
     for stroke in joined:
         if arc_lengths(stroke.points)[-1] <= GRID:  # a crumb below the snapping grid
             continue
         # evenly spaced at a quarter of d_eps: enough for the fit, and no hundreds of
         # points where the input was dense
-        pts = resample_polyline(stroke.points, d_eps / 4)
-        strokes.append((shape_key(pts, stroke.closed), pts, stroke.closed))
+        lines.append(resample_polyline(stroke.points, d_eps / 4))
+        closed.append(stroke.closed)
+    if ink is not None and params.epsilon > 0:  # step 9: onto the middle of their ink
+        lines = centred_on_ink(lines, closed, ink, PLACE_REACH * d_eps, d_eps / 4)
+    strokes = [(shape_key(pts, c), pts, c) for pts, c in zip(lines, closed)]
     # a fit is kept by the line before smoothing (smoothing depends on it and the params
-    # alone): a replay smooths and fits only the lines it has not seen
+    # alone): a replay smooths and fits only the lines it has not seen. Step 9 is not kept:
+    # where a line moves depends on the other lines (the ink nearer them is theirs)
     fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
     if todo:  # fitted together
