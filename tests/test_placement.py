@@ -66,7 +66,7 @@ def test_a_line_ending_on_itself_stays_closed():
     # a "6": a loop whose end comes back onto the stroke's own start, ink offset inside it
     t = np.linspace(0, 2 * np.pi, 400)
     loop = np.column_stack([0.2 * np.cos(t), 0.2 * np.sin(t) + 0.2])
-    six = resample_polyline(np.vstack([[[0.2, 0.6]], loop[::-1][:-1] * [1, 1]]), SPACING)
+    six = resample_polyline(np.vstack([[[0.2, 0.6]], loop[::-1][:-1]]), SPACING)
     ink = _ink([0.97 * (loop - [0, 0.2]) + [0, 0.2], np.array([[0.2, 0.6], [0.2, 0.2]])])
     start = shapely.LineString(six[:len(six) // 3])
     assert shapely.distance(start, shapely.Point(six[-1])) < SPACING / 2  # it meets itself

@@ -144,10 +144,11 @@ def centred_on_ink(lines: list[np.ndarray], closed: list[bool], ink: NearestInk,
                                              points + reach * normal], axis=1))
     sec, seg = ink.tree.query(sections, predicate="intersects")
     d = ink.segment_vector[seg]
-    along = np.abs((d * tangent[sec]).sum(axis=1)) >= ALONG_COS * np.hypot(d[:, 0], d[:, 1])
+    length = np.hypot(d[:, 0], d[:, 1])
+    along = (np.abs((d * tangent[sec]).sum(axis=1)) >= ALONG_COS * length) & (length > 0)
     sec, seg, d = sec[along], seg[along], d[along]
     # where the segment o + u d crosses the section p + s n: s = cross(o - p, d) / cross(n, d)
-    # (not parallel: it runs along the line, square to the section)
+    # (never 0: the segment has a length and runs along the line, square to the section)
     rel, n = ink.segment_origin[seg] - points[sec], normal[sec]
     s = (rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]) / (n[:, 0] * d[:, 1] - n[:, 1] * d[:, 0])
     if len(lines) > 1:  # ink nearer another output line is that line's (the nearest
