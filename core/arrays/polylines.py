@@ -22,9 +22,20 @@ from functools import cached_property
 import numpy as np
 
 __all__ = [
-    "arc_lengths", "end_to_end", "leading_count", "points_at", "Polylines",
+    "arc_lengths", "end_to_end", "gaussian_kernel", "leading_count", "points_at", "Polylines",
     "resample_polyline", "resample_polylines", "split", "starts", "total_lengths",
 ]
+
+
+def gaussian_kernel(sigma: float, half: int) -> np.ndarray:
+    """Weights summing to 1 of a Gaussian of ``sigma`` samples, at offsets -half..half:
+    what smoothing along an evenly spaced polyline convolves with.
+
+    >>> gaussian_kernel(1.0, 1).round(3).tolist()
+    [0.274, 0.452, 0.274]
+    """
+    k = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+    return k / k.sum()
 
 
 def leading_count(mask: np.ndarray) -> int | np.ndarray:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arrays.polylines import arc_lengths, end_to_end, split
+from ..arrays.polylines import arc_lengths, end_to_end, gaussian_kernel, split
 
 __all__ = [
     "MAX_DEPTH", "SAMPLES_PER_SEGMENT", "corner_indices", "evaluate_bezier", "fit_bezier",
@@ -126,19 +126,14 @@ def smooth_between_corners(points: np.ndarray, sigma: float, corners: list[int],
     """
     if sigma <= 0 or len(points) < 3:
         return points
-
-    def kernel(h: int) -> np.ndarray:
-        k = np.exp(-0.5 * (np.arange(-h, h + 1) / sigma) ** 2)
-        return k / k.sum()
-
     half = int(np.ceil(3 * sigma))
     if closed and not corners:
         ring = points[:-1]
         pad = np.concatenate([ring[-half:], ring, ring[:half]]) if len(ring) > half else None
         if pad is None:
             return points
-        out = np.column_stack([np.convolve(pad[:, d], kernel(half), mode="valid")
-                               for d in (0, 1)])
+        k = gaussian_kernel(sigma, half)
+        out = np.column_stack([np.convolve(pad[:, d], k, mode="valid") for d in (0, 1)])
         return np.vstack([out, out[:1]])
     out = points.copy()
     bounds = [0, *sorted(set(corners)), len(points) - 1]
@@ -150,8 +145,8 @@ def smooth_between_corners(points: np.ndarray, sigma: float, corners: list[int],
         head = 2 * piece[0] - piece[h:0:-1]
         tail = 2 * piece[-1] - piece[-2:-2 - h:-1]
         pad = np.concatenate([head, piece, tail])
-        smooth = np.column_stack([np.convolve(pad[:, d], kernel(h), mode="valid")
-                                  for d in (0, 1)])
+        k = gaussian_kernel(sigma, h)
+        smooth = np.column_stack([np.convolve(pad[:, d], k, mode="valid") for d in (0, 1)])
         out[a + 1:b] = smooth[1:-1]
     return out
 

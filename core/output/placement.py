@@ -43,6 +43,7 @@ import numpy as np
 import shapely
 
 from ..arrays.geometry import lines_from
+from ..arrays.polylines import gaussian_kernel
 from .attributes import NearestInk
 
 __all__ = ["ALONG_COS", "PLACE_PRIOR", "PLACE_REACH", "centred_on_ink"]
@@ -72,8 +73,7 @@ def _smoothed(values: np.ndarray, sigma: float, closed: bool) -> np.ndarray:
     if sigma <= 0 or len(values) < 3:
         return values
     half = int(np.ceil(3 * sigma))
-    k = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
-    k /= k.sum()
+    k = gaussian_kernel(sigma, half)
     if closed:
         out = np.convolve(np.pad(values[:-1], half, mode="wrap"), k, mode="valid")
         return np.append(out, out[:1])
