@@ -6,7 +6,7 @@ the two curves it merged, a patch merge on the side it kept (paper 3.2). Where a
 merged in several steps, or one side kept, the line lies off the bundle's middle, where the
 issue asks for "one line placed mid-bundle". Here every sample of an output line casts a
 cross-section :data:`PLACE_REACH` d_eps each side, square to the line. The input strokes
-running along the line (within ``ALONG_COS`` of its direction) cross it, and the sample
+running along the line (within ``PLACE_ALONG_COS`` of its direction) cross it, and the sample
 moves to their weighted mean:
 
 * each pass counts once however densely it was sampled, weighted ``1 - (s / reach)^2`` by
@@ -46,7 +46,7 @@ from ..arrays.geometry import lines_from
 from ..arrays.polylines import gaussian_kernel
 from .attributes import NearestInk
 
-__all__ = ["ALONG_COS", "PLACE_PRIOR", "PLACE_REACH", "centred_on_ink"]
+__all__ = ["PLACE_ALONG_COS", "PLACE_PRIOR", "PLACE_REACH", "centred_on_ink"]
 
 #: half the length of a sample's cross-section, in d_eps
 PLACE_REACH = 0.75
@@ -56,7 +56,7 @@ PLACE_PRIOR = 1.0
 
 #: input ink runs along an output line where the angle between them has at least this
 #: |cos| (within about 26 degrees); ink across the line (a crossing stroke) is no part of it
-ALONG_COS = 0.9
+PLACE_ALONG_COS = 0.9
 
 
 def _tangents(points: np.ndarray, closed: bool) -> np.ndarray:
@@ -145,7 +145,7 @@ def centred_on_ink(lines: list[np.ndarray], closed: list[bool], ink: NearestInk,
     sec, seg = ink.tree.query(sections, predicate="intersects")
     d = ink.segment_vector[seg]
     length = np.hypot(d[:, 0], d[:, 1])
-    along = (np.abs((d * tangent[sec]).sum(axis=1)) >= ALONG_COS * length) & (length > 0)
+    along = (np.abs((d * tangent[sec]).sum(axis=1)) >= PLACE_ALONG_COS * length) & (length > 0)
     sec, seg, d = sec[along], seg[along], d[along]
     # where the segment o + u d crosses the section p + s n: s = cross(o - p, d) / cross(n, d)
     # (never 0: the segment has a length and runs along the line, square to the section)
