@@ -10,8 +10,8 @@ import numpy as np
 from .arrays.polylines import resample_polylines, total_lengths
 from .sketch import SketchError
 
-__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA", "PAPER_ALPHA",
-           "SPACING_SHARE", "STROKE_SHARE", "SimplifyParams", "ink_spacing"]
+__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA", "MIN_ALPHA",
+           "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "SimplifyParams", "ink_spacing"]
 
 #: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
 PAPER_ALPHA = 0.012
@@ -26,6 +26,12 @@ INK_CELL = 0.02
 
 #: "auto" alpha is at most this share of the median stroke length (see resolved)
 STROKE_SHARE = 0.5
+
+#: the narrowest bundle, given or "auto": 100 snapping grids (core.complex.noding.GRID).
+#: Output lines are sampled a quarter of the width apart, so a narrower one only
+#: multiplies samples: a sketch of a few vanishing strokes (1e-120 of its diagonal) asked
+#: for 10^112 of them by the median-length cap, and failed
+MIN_ALPHA = 1e-4
 
 #: "auto" fill_gap is the ink's spacing, at most this share of d_eps (see resolved)
 FILL_GAP_SHARE = 0.7
@@ -108,8 +114,8 @@ class SimplifyParams:
         check(0 <= self.smoothing <= 4, f"smoothing must be 0 to 4, got {self.smoothing}")
         check(isinstance(self.samples, int) and self.samples >= 8 and self.samples % 2 == 0,
               f"samples (N) must be an even integer >= 8, got {self.samples!r}")
-        check(self.alpha == "auto" or 0 < self.alpha <= 0.2,
-              f"alpha must be 'auto' or in (0, 0.2], got {self.alpha!r}")
+        check(self.alpha == "auto" or MIN_ALPHA <= self.alpha <= 0.2,
+              f"alpha must be 'auto' or in [{MIN_ALPHA}, 0.2], got {self.alpha!r}")
         check(self.fill_gap == "auto" or 0 <= self.fill_gap <= 0.2,
               f"fill_gap must be 'auto' or in [0, 0.2], got {self.fill_gap!r}")
         check(0 < self.beta <= 1, f"beta must be in (0, 1], got {self.beta}")
@@ -141,8 +147,9 @@ class SimplifyParams:
         floor below 0.012 (the spacing alone, 1.0 times) product sketches kept their close
         lines (tight recall 0.937) but doubled ink doubled (0.228).
 
-        Then never more than :data:`STROKE_SHARE` of the median length of the strokes: a
-        bundle is never wider than half the strokes that make it are long. The
+        Then never more than :data:`STROKE_SHARE` of the median length of the strokes (nor
+        less than :data:`MIN_ALPHA`): a bundle is never wider than half the strokes that
+        make it are long. The
         cap leaves every dev sketch alone (their median strokes are 3.3 to 140% of the
         diagonal long; at 0.25 it narrowed six sketches of short strokes, and Bunny04's
         doubled ink went 0.19 -> 0.33); where a drawing is many small parts spread wide,
@@ -184,6 +191,7 @@ class SimplifyParams:
             if unit_strokes:
                 alpha = min(max(SPACING_SHARE * spacing, PAPER_ALPHA), LOOSE_ALPHA)
                 alpha = min(alpha, STROKE_SHARE * float(np.median(total_lengths(unit_strokes))))
+                alpha = max(alpha, MIN_ALPHA)
         fill_gap = self.fill_gap
         if fill_gap == "auto":
             fill_gap = FILL_GAP_SHARE * alpha

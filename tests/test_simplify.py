@@ -20,7 +20,7 @@ from core.arrays.geometry import lines_from
 from core.output.attributes import NearestInk
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import join_edges, trim_spurs
-from core.params import SimplifyParams
+from core.params import MIN_ALPHA, SimplifyParams
 
 
 def wobbly(a, b, offset, n=40, amplitude=0.0, phase=0.0):
@@ -199,10 +199,24 @@ def test_result_reports_counts_timings_and_regions():
 
 @pytest.mark.parametrize("params", [dict(epsilon=-0.1), dict(samples=4), dict(samples=7),
                                     dict(alpha=0), dict(alpha="wide"), dict(alpha=0.5),
+                                    dict(alpha=1e-9),
                                     dict(epsilon=float("nan")), dict(target_patches=-1)])
 def test_bad_parameters_are_clear_errors(params):
     with pytest.raises(SketchError, match="bad parameter"):
         SimplifyParams(**params)
+
+
+def test_a_sketch_of_strokes_that_all_but_vanish_is_simplified():
+    # found by scripts/fuzz.py (seed 11): two of three strokes are 1e-111 and 1e-280 of the
+    # drawing long, so half the median stroke length, the "auto" width's cap, was 6e-112,
+    # and the output lines, sampled a quarter of it apart, asked for 10^112 samples
+    sketch = Sketch([Stroke(np.array([[0.0, 0.0], [0.0, 1e-9]])),
+                     Stroke(np.array([[0.0, 0.0], [0.0, 1.17518218e-120]])),
+                     Stroke(np.array([[0.0, 0.0], [0.0, 4.59665789e-289]]))])
+    result = simplify(sketch)
+    assert result.params.alpha == MIN_ALPHA
+    assert len(result.strokes) >= 1
+    assert all(np.isfinite(s.points).all() for s in result.strokes)
 
 
 def test_targets_stop_early():
