@@ -23,7 +23,7 @@ a line (another's or its own), on every line passing there; only free ends move 
 line.
 
 Measured against no step 9 (same scorer, medians): on the 101 dev sketches tight recall
-0.835 -> 0.847 (23 lift3d sketches up by more than 0.01, 2 down), doubled ink 0.036 ->
+0.835 -> 0.847 (23 lift3d sketches up by more than 0.005, 2 down), doubled ink 0.036 ->
 0.035, F 0.991 -> 0.990, distance to the ink 0.506 -> 0.513 px (a line mid-bundle lies a
 little off each pass), coverage and ink kept unchanged (0.991, worst 0.987); on 89
 held-out sketches tight recall 0.842 -> 0.853, doubled 0.042 -> 0.043, distance to the ink
