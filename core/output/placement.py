@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..arrays.geometry import lines_from
+from ..arrays.geometry import lines_from, unit_rows
 from ..arrays.polylines import gaussian_kernel
 from .attributes import NearestInk
 
@@ -60,11 +60,13 @@ PLACE_ALONG_COS = 0.9
 
 
 def _tangents(points: np.ndarray, closed: bool) -> np.ndarray:
-    """Unit tangents (n, 2) of an evenly spaced polyline, by central differences."""
-    ahead = np.vstack([points[1:], points[1:2] if closed else points[-1:]])
-    behind = np.vstack([points[-2:-1] if closed else points[:1], points[:-1]])
-    t = ahead - behind
-    return t / np.maximum(np.hypot(t[:, 0], t[:, 1]), 1e-300)[:, None]
+    """Unit tangents (n, 2) of an evenly spaced polyline by central differences, as
+    elsewhere in the output stage (``unit_rows(np.gradient(...))``); a ring's wrap round
+    its seam (its first point repeated last)."""
+    if not closed:
+        return unit_rows(np.gradient(points, axis=0))
+    ring = np.vstack([points[-2:-1], points, points[1:2]])
+    return unit_rows(np.gradient(ring, axis=0)[1:-1])
 
 
 def _smoothed(values: np.ndarray, sigma: float, closed: bool) -> np.ndarray:
