@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from bench_complex import rough_files, sketch_name  # noqa: E402
-from metrics import coverage, doubled, fidelity, precision_recall_f  # noqa: E402
+from metrics import coverage, doubled, fidelity, precision_recall_f, too_wide  # noqa: E402
 
 from core import read_sketch  # noqa: E402
 from core.params import SimplifyParams  # noqa: E402
@@ -77,7 +77,8 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     px); doubled (share of output ink beside another output stroke over the same intended
     curve: cluster ids of the .scap files); per_in and per_intended (output strokes per
     input stroke and per intended curve); against the lift3d references, the F-score at 1%
-    of D and the tight recall at 0.4%.
+    of D and the tight recall at 0.4%. And of the input alone: too_wide (the share of its
+    ink that no single line keeps within 2% of D, its intended curve drawn wider than 4%).
     """
     n_intended, reference = intended_curves(path, sketch)
     diag = diagonal(sketch)
@@ -89,6 +90,7 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
         "coverage": coverage(ink, out, 0.01 * diag), "ink_kept": coverage(ink, out, 0.02 * diag),
         "fidelity_px": fidelity(out, ink),
         "doubled": doubled(out, ink, [s.cluster for s in sketch.strokes], diag),
+        "too_wide": too_wide(ink, [s.cluster for s in sketch.strokes], diag),
     }
     if reference is not None:
         row["f_score"] = precision_recall_f(out, reference, 0.01 * diag)[2]

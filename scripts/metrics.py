@@ -14,7 +14,10 @@ sampled along them every ``spacing`` units, so that long segments count by their
 * chamfer(a, b): the symmetric Chamfer distance, the mean of both mean nearest distances;
 * doubled(output, ink, clusters, diagonal): the share of output ink running beside another
   output stroke over the same intended curve (a line left doubled);
-* changed(a, b, tol): the share of either drawing farther than ``tol`` from the other.
+* changed(a, b, tol): the share of either drawing farther than ``tol`` from the other;
+* too_wide(ink, clusters, diagonal): the share of the input ink that no single line can
+  keep within 2% of the diagonal (its intended curve drawn wider than 4% across): where a
+  sketch is mostly such ink, ink kept and no doubled lines cannot both hold.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import shapely
 
 __all__ = [
     "changed", "chamfer", "coverage", "doubled", "doubled_samples", "fidelity", "nearest_distances",
-    "precision_recall_f", "sample_points",
+    "precision_recall_f", "sample_points", "too_wide",
 ]
 
 
@@ -87,6 +90,61 @@ def precision_recall_f(output: list[np.ndarray], reference: list[np.ndarray], to
 def chamfer(a: list[np.ndarray], b: list[np.ndarray], spacing: float = 1.0) -> float:
     pa, pb = sample_points(a, spacing), sample_points(b, spacing)
     return float(0.5 * (nearest_distances(pa, b).mean() + nearest_distances(pb, a).mean()))
+
+
+def too_wide(ink: list[np.ndarray], clusters: list[int], diagonal: float,
+             tol_share: float = 0.02) -> float:
+    """The share of the input ink that no single line can keep within ``tol_share`` of the
+    diagonal: ink where its intended curve was drawn as passes spanning more than twice
+    that across. Wherever such ink is kept (:func:`coverage` at the same tolerance), two
+    or more output lines run side by side over that curve (:func:`doubled` counts them
+    where they lie within 3% of the diagonal of each other): a sketch mostly of such ink
+    cannot have both its ink kept and no line doubled.
+
+    The ink is sampled every 0.25% of the diagonal. At each sample, a cross-section square
+    to its pass meets the passes of the same intended curve (cluster id) that run along it
+    (|cos| >= 0.9, within half a sample step of the section, up to six times the tolerance
+    away). Those within twice the tolerance of one another, in a chain from the sample,
+    are one bundle here (a wider empty gap can hold two lines, each keeping its side);
+    the sample counts when that bundle spans more than twice the tolerance.
+
+    >>> t = np.linspace(0, 400, 41)[:, None]
+    >>> passes = [np.hstack([t, 0 * t + 6.0 * k]) for k in range(5)]  # 24 across; 4% is 20
+    >>> too_wide(passes, [1] * 5, 500.0), too_wide(passes[:4], [1] * 4, 500.0)
+    (1.0, 0.0)
+    >>> too_wide(passes, [1, 1, 2, 2, 2], 500.0)  # two curves, each narrow enough
+    0.0
+    """
+    step = 0.0025 * diagonal
+    wide = 2 * tol_share * diagonal
+    points, which, _ = _samples(ink, step)
+    if not len(points):
+        return 0.0
+    tangents = _tangents(points, which)
+    # each intended curve moved apart from the others, so that the query meets its own only
+    cluster = np.unique(np.asarray(clusters), return_inverse=True)[1][which]
+    apart = points + np.outer(cluster * 10 * (np.ptp(points, axis=0).sum() + 6 * wide), [1, 0])
+    geoms = shapely.points(apart)
+    i, j = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=3 * wide)
+    gap = points[j] - points[i]
+    along = (gap * tangents[i]).sum(axis=1)
+    keep = ((i != j) & (np.abs(along) <= step / 2)
+            & (np.abs((tangents[i] * tangents[j]).sum(axis=1)) >= 0.9))
+    i, gap = i[keep], gap[keep]
+    offset = gap[:, 1] * tangents[i, 0] - gap[:, 0] * tangents[i, 1]
+    # each section's offsets with the sample itself at 0, sorted; chains break at wide gaps
+    section = np.concatenate([i, np.arange(len(points))])
+    offset = np.concatenate([offset, np.zeros(len(points))])
+    itself = np.concatenate([np.zeros(len(i), bool), np.ones(len(points), bool)])
+    order = np.lexsort((offset, section))
+    section, offset, itself = section[order], offset[order], itself[order]
+    starts = np.ones(len(section), bool)
+    starts[1:] = (section[1:] != section[:-1]) | (np.diff(offset) > wide)
+    chain = np.cumsum(starts) - 1
+    first = np.flatnonzero(starts)
+    last = np.append(first[1:] - 1, len(section) - 1)
+    span = offset[last] - offset[first]
+    return float((span[chain[itself]] > wide).mean())
 
 
 def changed(a: list[np.ndarray], b: list[np.ndarray], tol: float, spacing: float) -> float:

@@ -9,7 +9,11 @@ issue, per source, with the five worst sketches of each, and far-ink invariance.
 Measures per sketch (``bench_simplify.measure``; the scorer is ``scripts/metrics.py``, which
 shares no code with ``core``): doubled, ink kept within 2% of the diagonal, coverage at 1%,
 fidelity in px, output strokes per input stroke and per intended curve, and on the lift3d
-sketches the F-score at 1% and the tight recall at 0.4% of the diagonal. ``--root``
+sketches the F-score at 1% and the tight recall at 0.4% of the diagonal; and of the input,
+too_wide: the share of its ink that no single line keeps within 2% of the diagonal (its
+intended curve drawn wider than 4% across). A sketch doubled more than ``WIDE_SHARE`` is
+listed with it: where too_wide is above that share too, ink kept and no doubled line cannot
+both hold, and no width of bundle settles it. ``--root``
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
 ``--data`` scores another folder of .scap sketches laid out as ``../shared/data`` (a source
@@ -38,11 +42,13 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 DATA = HERE.parent.parent / "shared" / "data"
 MEASURES = ("doubled", "ink_kept", "coverage", "fidelity_px", "per_in", "per_intended",
-            "f_score", "tight_recall")
+            "f_score", "tight_recall", "too_wide")
 #: for each measure, whether higher is better (the worst are the other end)
 HIGHER_IS_BETTER = {"doubled": False, "ink_kept": True, "coverage": True, "fidelity_px": False,
                     "per_in": False, "per_intended": False, "f_score": True,
-                    "tight_recall": True}
+                    "tight_recall": True, "too_wide": False}
+#: the doubled share beyond which a sketch is listed, with its too_wide (the issue's worst)
+WIDE_SHARE = 0.25
 #: the measures whose worst sketches are listed and drawn
 WORST_OF = ("doubled", "ink_kept", "per_in", "tight_recall")
 FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
@@ -172,6 +178,13 @@ def summary(rows: dict[str, dict]) -> str:
     for m in WORST_OF:
         lines.append(f"worst {m}: " + "; ".join(f"{short_name(k)} {ok[k][m]:.3f}"
                                                   for k in worst(ok, m)))
+    doubled = sorted((k for k, v in ok.items() if v["doubled"] > WIDE_SHARE),
+                     key=lambda k: -ok[k]["doubled"])
+    wide = [k for k in doubled if ok[k].get("too_wide", 0.0) > WIDE_SHARE]
+    lines.append(f"doubled more than {WIDE_SHARE}: {len(doubled)}, of which {len(wide)} with "
+                 f"too_wide above it too: " + "; ".join(
+                     f"{short_name(k)} {ok[k]['doubled']:.3f}/{ok[k].get('too_wide', np.nan):.3f}"
+                     for k in doubled))
     more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
     lines.append(f"sketches with more strokes out than in: {len(more)}")
     failed = [k for k, v in rows.items() if not k.startswith("_") and "error" in v]

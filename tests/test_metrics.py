@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from metrics import chamfer, changed, coverage, doubled, fidelity, precision_recall_f
+from metrics import chamfer, changed, coverage, doubled, fidelity, precision_recall_f, too_wide
 
 
 def drawing():
@@ -74,6 +74,28 @@ def test_half_a_line_doubled_counts_half():
     share = doubled([line(0.0), line(3.0, 0.0, 200.0)], ink, [1, 1], diagonal=500.0)
     # the long line's left half and all of the short one's inside part, over both lengths
     assert 0.55 < share < 0.75
+
+
+def test_a_bundle_wider_than_twice_the_ink_kept_tolerance_is_too_wide_for_one_line():
+    # 4% of a 500 diagonal is 20: passes 0, 7 and 14 apart keep within 2% of a line at 7
+    narrow = [line(0.0), line(7.0), line(14.0)]
+    assert too_wide(narrow, [1, 1, 1], diagonal=500.0) == 0.0
+    wide = narrow + [line(21.0)]
+    assert too_wide(wide, [1, 1, 1, 1], diagonal=500.0) == 1.0
+    # ... and no line does keep it all, where two lines, each a side, keep it
+    assert coverage(wide, [line(10.5)], 0.02 * 500.0) < 1.0
+    assert coverage(wide, [line(3.5), line(17.5)], 0.02 * 500.0) == 1.0
+
+
+def test_two_curves_or_a_wide_empty_gap_are_not_one_wide_bundle():
+    # the same four passes as two intended curves, each narrow
+    four = [line(0.0), line(7.0), line(14.0), line(21.0)]
+    assert too_wide(four, [1, 1, 2, 2], diagonal=500.0) == 0.0
+    # one curve drawn twice 30 apart, nothing between: each pass can have its own line
+    assert too_wide([line(0.0), line(30.0)], [1, 1], diagonal=500.0) == 0.0
+    # passes across the line do not widen it
+    across = [line(0.0), np.array([[200.0, -100.0], [200.0, 100.0]])]
+    assert too_wide(across, [1, 1], diagonal=500.0) == 0.0
 
 
 def test_changed_is_the_share_of_either_drawing_away_from_the_other():
