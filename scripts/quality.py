@@ -178,13 +178,13 @@ def summary(rows: dict[str, dict]) -> str:
     for m in WORST_OF:
         lines.append(f"worst {m}: " + "; ".join(f"{short_name(k)} {ok[k][m]:.3f}"
                                                   for k in worst(ok, m)))
-    doubled = sorted((k for k, v in ok.items() if v["doubled"] > WIDE_SHARE),
-                     key=lambda k: -ok[k]["doubled"])
-    wide = [k for k in doubled if ok[k].get("too_wide", 0.0) > WIDE_SHARE]
-    lines.append(f"doubled more than {WIDE_SHARE}: {len(doubled)}, of which {len(wide)} with "
-                 f"too_wide above it too: " + "; ".join(
+    left_doubled = sorted((k for k, v in ok.items() if v["doubled"] > WIDE_SHARE),
+                          key=lambda k: -ok[k]["doubled"])
+    wide = [k for k in left_doubled if ok[k].get("too_wide", 0.0) > WIDE_SHARE]
+    lines.append(f"doubled more than {WIDE_SHARE}: {len(left_doubled)}, of which {len(wide)} "
+                 "with too_wide above it too (doubled/too_wide): " + "; ".join(
                      f"{short_name(k)} {ok[k]['doubled']:.3f}/{ok[k].get('too_wide', np.nan):.3f}"
-                     for k in doubled))
+                     for k in left_doubled))
     more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
     lines.append(f"sketches with more strokes out than in: {len(more)}")
     failed = [k for k, v in rows.items() if not k.startswith("_") and "error" in v]
