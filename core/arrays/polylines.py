@@ -23,7 +23,8 @@ import numpy as np
 
 __all__ = [
     "arc_lengths", "end_to_end", "gaussian_kernel", "leading_count", "points_at", "Polylines",
-    "resample_polyline", "resample_polylines", "split", "starts", "total_lengths",
+    "resample_polyline", "resample_polylines", "smoothed_ring", "split", "starts",
+    "total_lengths",
 ]
 
 
@@ -36,6 +37,27 @@ def gaussian_kernel(sigma: float, half: int) -> np.ndarray:
     """
     k = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
     return k / k.sum()
+
+
+def smoothed_ring(values: np.ndarray, sigma: float) -> np.ndarray:
+    """Values along an evenly spaced ring, (n,) or (n, d), its first repeated last,
+    smoothed by a Gaussian of ``sigma`` samples (:func:`gaussian_kernel`, 3 sigma each
+    side) wrapping round its seam; the first is repeated last again.
+
+    >>> bump = np.array([3.0, 0, 0, 0, 0, 0, 0, 0, 3])  # at the seam: spreads both ways
+    >>> smoothed_ring(bump, 1.0).round(2).tolist()
+    [1.2, 0.73, 0.16, 0.01, 0.0, 0.01, 0.16, 0.73, 1.2]
+    """
+    half = int(np.ceil(3 * sigma))
+    k = gaussian_kernel(sigma, half)
+    ring = values[:-1]
+    pad = np.pad(ring, [(half, half)] + [(0, 0)] * (ring.ndim - 1), mode="wrap")
+    if pad.ndim == 1:
+        out = np.convolve(pad, k, mode="valid")
+    else:
+        out = np.column_stack([np.convolve(pad[:, d], k, mode="valid")
+                               for d in range(pad.shape[1])])
+    return np.concatenate([out, out[:1]])
 
 
 def leading_count(mask: np.ndarray) -> int | np.ndarray:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arrays.polylines import arc_lengths, end_to_end, gaussian_kernel, split
+from ..arrays.polylines import arc_lengths, end_to_end, gaussian_kernel, smoothed_ring, split
 
 __all__ = [
     "MAX_DEPTH", "SAMPLES_PER_SEGMENT", "corner_indices", "evaluate_bezier", "fit_bezier",
@@ -128,13 +128,7 @@ def smooth_between_corners(points: np.ndarray, sigma: float, corners: list[int],
         return points
     half = int(np.ceil(3 * sigma))
     if closed and not corners:
-        ring = points[:-1]
-        pad = np.concatenate([ring[-half:], ring, ring[:half]]) if len(ring) > half else None
-        if pad is None:
-            return points
-        k = gaussian_kernel(sigma, half)
-        out = np.column_stack([np.convolve(pad[:, d], k, mode="valid") for d in (0, 1)])
-        return np.vstack([out, out[:1]])
+        return smoothed_ring(points, sigma) if len(points) - 1 > half else points
     out = points.copy()
     bounds = [0, *sorted(set(corners)), len(points) - 1]
     for a, b in zip(bounds[:-1], bounds[1:]):

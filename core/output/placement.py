@@ -43,7 +43,7 @@ import numpy as np
 import shapely
 
 from ..arrays.geometry import lines_from, unit_rows
-from ..arrays.polylines import gaussian_kernel
+from ..arrays.polylines import gaussian_kernel, smoothed_ring
 from .attributes import NearestInk
 
 __all__ = ["PLACE_ALONG_COS", "PLACE_PRIOR", "PLACE_REACH", "centred_on_ink"]
@@ -74,12 +74,11 @@ def _smoothed(values: np.ndarray, sigma: float, closed: bool) -> np.ndarray:
     round; an open line's hold their end values beyond its ends)."""
     if sigma <= 0 or len(values) < 3:
         return values
-    half = int(np.ceil(3 * sigma))
-    k = gaussian_kernel(sigma, half)
     if closed:
-        out = np.convolve(np.pad(values[:-1], half, mode="wrap"), k, mode="valid")
-        return np.append(out, out[:1])
-    return np.convolve(np.pad(values, half, mode="edge"), k, mode="valid")
+        return smoothed_ring(values, sigma)
+    half = int(np.ceil(3 * sigma))
+    return np.convolve(np.pad(values, half, mode="edge"), gaussian_kernel(sigma, half),
+                       mode="valid")
 
 
 def _pins(lines: list[np.ndarray], closed: list[bool], near: float,
