@@ -83,14 +83,15 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     n_intended, reference = intended_curves(path, sketch)
     diag = diagonal(sketch)
     ink = [s.points for s in sketch.strokes]
+    clusters = [s.cluster for s in sketch.strokes]
     row = {
         "strokes_in": len(sketch.strokes), "strokes_out": len(out),
         "intended": n_intended, "per_intended": len(out) / max(n_intended, 1),
         "per_in": len(out) / max(len(sketch.strokes), 1),
         "coverage": coverage(ink, out, 0.01 * diag), "ink_kept": coverage(ink, out, 0.02 * diag),
         "fidelity_px": fidelity(out, ink),
-        "doubled": doubled(out, ink, [s.cluster for s in sketch.strokes], diag),
-        "too_wide": too_wide(ink, [s.cluster for s in sketch.strokes], diag),
+        "doubled": doubled(out, ink, clusters, diag),
+        "too_wide": too_wide(ink, clusters, diag),
     }
     if reference is not None:
         row["f_score"] = precision_recall_f(out, reference, 0.01 * diag)[2]
