@@ -1,14 +1,16 @@
-"""Small vectorised helpers between lists of polylines and shapely geometry arrays, and
-the shoelace formula for ring areas."""
+"""Small vectorised helpers between lists of polylines and shapely geometry arrays, the
+shoelace formula for ring areas, and polylines as single segments crossed by sections."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
 
 __all__ = [
-    "directions_at", "lines_from", "nearest_on", "polygons_from", "ring_is_counter_clockwise",
-    "shoelace_terms", "split_coordinates", "unit_rows",
+    "Segments", "directions_at", "lines_from", "nearest_on", "polygons_from",
+    "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates", "unit_rows",
 ]
 
 
@@ -98,3 +100,73 @@ def directions_at(lines, points, step: float) -> np.ndarray:
     ahead = shapely.get_coordinates(shapely.line_interpolate_point(lines, at + step))
     behind = shapely.get_coordinates(shapely.line_interpolate_point(lines, at - step))
     return unit_rows(ahead - behind)
+
+
+@dataclass(frozen=True)
+class Segments:
+    """Polylines as their single segments ``origin + u * vector`` (u in [0, 1]), each
+    numbered by its polyline (``polyline``) and its first point in their concatenation
+    (``start``), in an STRtree: nearest queries against single segments are far quicker
+    than against whole polylines of hundreds of points.
+
+    >>> segs = Segments.of([np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]),
+    ...                     np.array([[0.0, 0.3], [2.0, 0.3]])])
+    >>> segs.polyline.tolist(), segs.start.tolist()
+    ([0, 0, 1], [0, 1, 3])
+    """
+
+    origin: np.ndarray  #: (m, 2)
+    vector: np.ndarray  #: (m, 2)
+    start: np.ndarray  #: (m,) index of the first point in the polylines' concatenation
+    polyline: np.ndarray  #: (m,) which polyline
+    lines: np.ndarray = field(repr=False)  #: (m,) shapely LineStrings
+    tree: shapely.STRtree = field(repr=False)
+
+    @classmethod
+    def of(cls, polylines: list[np.ndarray]) -> Segments:
+        sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+        flat = np.concatenate(polylines)
+        last = np.cumsum(sizes) - 1
+        start = np.setdiff1d(np.arange(len(flat) - 1), last)
+        lines = shapely.linestrings(np.stack([flat[start], flat[start + 1]], axis=1))
+        return cls(flat[start], flat[start + 1] - flat[start], start,
+                   np.repeat(np.arange(len(sizes)), np.maximum(sizes - 1, 0)), lines,
+                   shapely.STRtree(lines))
+
+    def crossings(self, points: np.ndarray, tangent: np.ndarray, reach: float,
+                  along_cos: float) -> tuple[np.ndarray, np.ndarray]:
+        """Where the segments running along ``tangent`` (|cos| at least ``along_cos``)
+        cross the section through each of ``points`` square to it, ``reach`` each side.
+
+        Args:
+            points: (n, 2) the sections' middles.
+            tangent: (n, 2) unit directions; the sections run along their normals.
+            reach: half the length of each section.
+            along_cos: the least |cos| between a segment and ``tangent``.
+
+        Returns:
+            ``section`` and ``offset`` arrays: for each crossing, the index of its section
+            and its signed distance from the section's middle along the normal
+            ``(-tangent[1], tangent[0])``.
+
+        >>> segs = Segments.of([np.array([[0.0, 0.2], [1.0, 0.2]]),
+        ...                     np.array([[0.5, -1.0], [0.5, 1.0]])])  # along, and across
+        >>> sec, offset = segs.crossings(np.array([[0.5, 0.0]]), np.array([[1.0, 0.0]]),
+        ...                              0.5, 0.9)
+        >>> sec.tolist(), offset.round(3).tolist()
+        ([0], [0.2])
+        """
+        normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+        sections = shapely.linestrings(np.stack([points - reach * normal,
+                                                 points + reach * normal], axis=1))
+        sec, seg = self.tree.query(sections, predicate="intersects")
+        d = self.vector[seg]
+        length = np.hypot(d[:, 0], d[:, 1])
+        along = (np.abs((d * tangent[sec]).sum(axis=1)) >= along_cos * length) & (length > 0)
+        sec, seg, d = sec[along], seg[along], d[along]
+        # the segment o + u d crosses the section p + s n at s = cross(o - p, d) /
+        # cross(n, d): never 0, as the segment has a length and runs along, square to n
+        rel, n = self.origin[seg] - points[sec], normal[sec]
+        offset = (rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]) / (n[:, 0] * d[:, 1]
+                                                                 - n[:, 1] * d[:, 0])
+        return sec, offset

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from ..arrays.geometry import Segments
 from ..arrays.polylines import arc_lengths
 from ..sketch import Stroke
 from .memo import LruStore
@@ -64,21 +65,7 @@ class NearestInk:
         # one increasing "running arc length" over all strokes, a gap of 1 between them
         offset = np.concatenate([[0.0], np.cumsum([x[-1] + 1.0 for x in s])[:-1]])
         self.running = np.concatenate([x + o for x, o in zip(s, offset)])
-        # the tree holds single segments: nearest queries against them are far quicker
-        # than against whole strokes of hundreds of points
-        starts = np.concatenate([np.arange(len(p) - 1) + k for p, k in
-                                 zip(unit_points, np.cumsum([0] + [len(p) for p in
-                                                                    unit_points[:-1]]))])
-        flat = np.concatenate(unit_points)
-        self.segments = shapely.linestrings(
-            np.stack([flat[starts], flat[starts + 1]], axis=1))
-        self.segment_start = starts
-        # each segment as o + u v, u in [0, 1]: what a cross-section meets (placement)
-        self.segment_origin = flat[starts]
-        self.segment_vector = flat[starts + 1] - flat[starts]
-        self.segment_stroke = np.repeat(np.arange(len(unit_points)),
-                                        [len(p) - 1 for p in unit_points])
-        self.tree = shapely.STRtree(self.segments)
+        self.segments = Segments.of(unit_points)  # also what a cross-section meets (placement)
         self.values = {name: self._stack(name) for name in ("width", "pressure")}
         # what each output polyline took, by content: a slider's replays share most strokes
         # (bounded, and a value depends on its key alone: see core.output.memo)
@@ -102,23 +89,24 @@ class NearestInk:
         [([0], [0.5]), ([], [])]
         """
         geoms = shapely.points(points)
-        i, seg = self.tree.query(geoms, predicate="dwithin", distance=radius)
+        segs = self.segments
+        i, seg = segs.tree.query(geoms, predicate="dwithin", distance=radius)
         order = np.argsort(i, kind="stable")
         i, seg = i[order], seg[order]
-        at = self.running[self.segment_start[seg]] + shapely.line_locate_point(
-            self.segments[seg], geoms[i])
-        return InkRows(np.searchsorted(i, np.arange(len(points) + 1)),
-                       self.segment_stroke[seg], at)
+        at = self.running[segs.start[seg]] + shapely.line_locate_point(segs.lines[seg],
+                                                                       geoms[i])
+        return InkRows(np.searchsorted(i, np.arange(len(points) + 1)), segs.polyline[seg], at)
 
     def _nearest(self, geoms: np.ndarray) -> np.ndarray:
         """Index of the nearest input segment of each point. A search bounded to a small
         radius is much quicker; the few points it leaves unmatched are searched fully."""
         nearest = np.full(len(geoms), -1)
-        i, k = self.tree.query_nearest(geoms, max_distance=self.radius, all_matches=False)
+        tree = self.segments.tree
+        i, k = tree.query_nearest(geoms, max_distance=self.radius, all_matches=False)
         nearest[i] = k
         rest = np.flatnonzero(nearest < 0)
         if len(rest):
-            i, k = self.tree.query_nearest(geoms[rest], all_matches=False)
+            i, k = tree.query_nearest(geoms[rest], all_matches=False)
             nearest[rest[i]] = k
         return nearest
 
@@ -141,9 +129,10 @@ class NearestInk:
         counts = [len(p) for p in strokes]
         geoms = shapely.points(np.concatenate(strokes))
         segment = self._nearest(geoms)
-        nearest = self.segment_stroke[segment]
-        start = self.segment_start[segment]
-        where = self.running[start] + shapely.line_locate_point(self.segments[segment], geoms)
+        segs = self.segments
+        nearest = segs.polyline[segment]
+        where = self.running[segs.start[segment]] + shapely.line_locate_point(
+            segs.lines[segment], geoms)
         cuts = np.cumsum(counts)[:-1]
         split = {name: [None] * len(strokes) if v is None else
                  np.split(np.interp(where, self.running, v), cuts)

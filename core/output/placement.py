@@ -141,21 +141,11 @@ def centred_on_ink(lines: list[np.ndarray], closed: list[bool], ink: NearestInk,
     line_of = np.repeat(np.arange(len(lines)), sizes)
     tangent = np.concatenate([_tangents(p, c) for p, c in zip(lines, closed)])
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
-    sections = shapely.linestrings(np.stack([points - reach * normal,
-                                             points + reach * normal], axis=1))
-    sec, seg = ink.tree.query(sections, predicate="intersects")
-    d = ink.segment_vector[seg]
-    length = np.hypot(d[:, 0], d[:, 1])
-    along = (np.abs((d * tangent[sec]).sum(axis=1)) >= PLACE_ALONG_COS * length) & (length > 0)
-    sec, seg, d = sec[along], seg[along], d[along]
-    # where the segment o + u d crosses the section p + s n: s = cross(o - p, d) / cross(n, d)
-    # (never 0: the segment has a length and runs along the line, square to the section)
-    rel, n = ink.segment_origin[seg] - points[sec], normal[sec]
-    s = (rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]) / (n[:, 0] * d[:, 1] - n[:, 1] * d[:, 0])
+    sec, s = ink.segments.crossings(points, tangent, reach, PLACE_ALONG_COS)
     if len(lines) > 1:  # ink nearer another output line is that line's (the nearest
         # sample's line: samples lie a quarter of the reach apart)
         samples = shapely.STRtree(shapely.points(points))
-        nearest = samples.query_nearest(shapely.points(points[sec] + s[:, None] * n),
+        nearest = samples.query_nearest(shapely.points(points[sec] + s[:, None] * normal[sec]),
                                         all_matches=False)[1]
         own = line_of[nearest] == line_of[sec]
         sec, s = sec[own], s[own]
