@@ -47,7 +47,8 @@ def parser() -> argparse.ArgumentParser:
                           "%(default)s)")
     one.add_argument("--alpha", type=_auto_or_number, default=d.alpha,
                      help="stroke bundle width as a fraction of the drawing's diagonal, or "
-                          "'auto' (default: measured from the ink, 0.012 to 0.015)")
+                          "'auto' (default: measured from the ink, 0.012 to 0.015, up to "
+                          "0.03 for a sparse drawing whose result keeps the ink)")
     one.add_argument("--fill-gap", type=_auto_or_number, default=d.fill_gap,
                      help="widest ink-free band inside a bundle drawn wider than alpha, as a "
                           "fraction of the drawing's diagonal; 0 merges no such bundle "
