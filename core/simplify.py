@@ -34,8 +34,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import shapely
 
-from .arrays.geometry import lines_from, polygons_from
-from .arrays.polylines import resample_polylines
+from .arrays.geometry import Reached, polygons_from
 from .complex.base_complex import BaseComplex, build_base_complex
 from .complex.complex_state import ComplexState, Merge
 from .complex.noding import more_crossings_than
@@ -247,18 +246,12 @@ def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float)
     >>> _keeps_ink(ink[:1] * 9 + [tick], [ink[0]], 0.02)
     False
     """
-    sizes = np.fromiter(map(len, drawing), dtype=np.intp, count=len(drawing))
-    samples, counts = resample_polylines(np.concatenate(drawing), sizes, reach / 8)
     lines = [line for line in lines if len(line) >= 2]
     if not lines:
         return False
-    near, _ = shapely.STRtree(lines_from(lines)).query(shapely.points(samples),
-                                                        predicate="dwithin", distance=reach)
-    left = np.ones(len(samples), dtype=bool)
-    left[near] = False
-    of_stroke = np.repeat(np.arange(len(drawing)), counts)
-    share = np.bincount(of_stroke, left, len(drawing)) / np.maximum(counts, 1)
-    return bool(left.mean() <= KEEP_LEFT and share.max() <= KEEP_STROKE)
+    reached = Reached.of(drawing, lines, reach, reach / 8)
+    return bool(1 - reached.near().mean() <= KEEP_LEFT
+                and 1 - reached.shares().min() <= KEEP_STROKE)
 
 
 __all__ = ["FILL_MIN_SHARE", "KEEP_EPSILON", "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE",

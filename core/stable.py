@@ -19,10 +19,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-import shapely
 
-from .arrays.geometry import lines_from
-from .arrays.polylines import resample_polyline
+from .arrays.geometry import Reached
 from .sketch import Stroke
 
 __all__ = ["HELD", "MISSED", "held_to"]
@@ -37,22 +35,14 @@ def _near(strokes: list[Stroke], others: list[Stroke], width: float
           ) -> tuple[np.ndarray, list[set[int]]]:
     """For each stroke: the share of it within ``width`` of the ``others``, and which of
     them it comes within ``width`` of."""
-    share = np.zeros(len(strokes))
     touched: list[set[int]] = [set() for _ in strokes]
     if not strokes or not others:
-        return share, touched
-    tree = shapely.STRtree(lines_from([o.points for o in others]))
-    samples = [resample_polyline(s.points, width / 2) for s in strokes]
-    which = np.repeat(np.arange(len(strokes)), [len(p) for p in samples])
-    i, j = tree.query(shapely.points(np.concatenate(samples)), predicate="dwithin",
-                      distance=width)
-    near = np.zeros(len(which), bool)
-    near[i] = True
-    share = np.bincount(which, weights=near, minlength=len(strokes)) / np.bincount(
-        which, minlength=len(strokes))
-    for k, o in zip(which[i].tolist(), j.tolist()):
+        return np.zeros(len(strokes)), touched
+    reached = Reached.of([s.points for s in strokes], [o.points for o in others], width,
+                         width / 2)
+    for k, o in zip(reached.polyline[reached.sample].tolist(), reached.line.tolist()):
         touched[k].add(o)
-    return share, touched
+    return reached.shares(), touched
 
 
 def held_to(previous: list[Stroke], current: list[Stroke], width: float) -> list[Stroke]:

@@ -1,5 +1,6 @@
 """Small vectorised helpers between lists of polylines and shapely geometry arrays, the
-shoelace formula for ring areas, and polylines as single segments crossed by sections."""
+shoelace formula for ring areas, polylines as single segments crossed by sections, and
+which samples of polylines come within a reach of other lines."""
 
 from __future__ import annotations
 
@@ -8,8 +9,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
+from .polylines import resample_polylines
+
 __all__ = [
-    "Segments", "directions_at", "lines_from", "nearest_on", "polygons_from",
+    "Reached", "Segments", "directions_at", "lines_from", "nearest_on", "polygons_from",
     "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates", "unit_rows",
 ]
 
@@ -170,3 +173,48 @@ class Segments:
         offset = (rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]) / (n[:, 0] * d[:, 1]
                                                                  - n[:, 1] * d[:, 0])
         return sec, offset
+
+
+@dataclass(frozen=True)
+class Reached:
+    """Polylines sampled evenly, and which of some lines each sample comes within a reach
+    of (:meth:`of`): one query for every sample of every polyline.
+
+    >>> x = np.linspace(0, 1, 11)[:, None]
+    >>> line = [np.hstack([x, 0 * x])]
+    >>> across = np.array([[0.5, 0.0], [0.5, 1.0]])  # 11 samples, one within reach
+    >>> r = Reached.of([np.hstack([x, 0.01 + 0 * x]), across], line, 0.05, 0.1)
+    >>> r.shares().round(2).tolist()
+    [1.0, 0.09]
+    """
+
+    polyline: np.ndarray  #: (n,) which polyline each sample is of
+    count: np.ndarray  #: (k,) samples of each polyline
+    sample: np.ndarray  #: (m,) a sample within the reach ...
+    line: np.ndarray  #: (m,) ... of this line (a sample near two lines: twice)
+
+    @classmethod
+    def of(cls, polylines: list[np.ndarray], lines: list[np.ndarray], reach: float,
+           spacing: float) -> Reached:
+        """``polylines`` (each at least one point) sampled every ``spacing``, against
+        ``lines`` (each at least two points)."""
+        sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+        points, count = (resample_polylines(np.concatenate(polylines), sizes, spacing)
+                         if polylines else (np.empty((0, 2)), sizes))
+        polyline = np.repeat(np.arange(len(polylines)), count)
+        if not lines or not len(points):
+            return cls(polyline, count, np.empty(0, np.intp), np.empty(0, np.intp))
+        sample, line = shapely.STRtree(lines_from(lines)).query(
+            shapely.points(points), predicate="dwithin", distance=reach)
+        return cls(polyline, count, sample, line)
+
+    def near(self) -> np.ndarray:
+        """(n,) whether each sample lies within the reach of a line."""
+        near = np.zeros(len(self.polyline), dtype=bool)
+        near[self.sample] = True
+        return near
+
+    def shares(self) -> np.ndarray:
+        """(k,) the share of each polyline's samples within the reach of a line."""
+        return np.bincount(self.polyline, self.near(), len(self.count)) / np.maximum(
+            self.count, 1)
