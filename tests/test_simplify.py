@@ -416,6 +416,22 @@ def test_a_hatch_of_lines_2_5_percent_apart_is_not_merged_by_a_wider_width():
     assert found == pytest.approx([k * step for k in range(8)], abs=0.1 * step)
 
 
+def test_where_the_wider_result_leaves_ink_out_the_loose_caps_result_is_kept(monkeypatch):
+    """The same two passes 3% apart, with the ink check made to find ink left out at
+    every wider width: both wider widths are judged and the 1.5% result is kept, the
+    passes two lines (too far apart for it)."""
+    import importlib
+
+    module = importlib.import_module("core.simplify")
+    judged = []
+    monkeypatch.setattr(module, "_keeps_ink", lambda *args: judged.append(args) and False)
+    t = np.linspace(0, 100, 60)[:, None]
+    gap = 0.03 * np.hypot(100, 3)
+    result = simplify(Sketch([Stroke(np.hstack([t, 0 * t])), Stroke(np.hstack([t, gap + 0 * t]))]))
+    assert len(judged) == 2
+    assert result.params.alpha == LOOSE_ALPHA and len(result.strokes) == 2
+
+
 @pytest.mark.data
 def test_a_wider_width_whose_result_leaves_ink_out_is_not_kept_at_any_epsilon():
     """twirl (StrokeStrip, loose passes round a spiral): sparse, so "auto" tries 2.9% and
