@@ -13,7 +13,7 @@ from .sketch import SketchError
 
 __all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA", "MIN_ALPHA",
            "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "WIDEST_ALPHA", "WIDE_BANDED",
-           "WIDE_FROM", "SimplifyParams", "banded_share", "ink_spacing"]
+           "WIDE_FROM", "SimplifyParams", "banded_shares", "ink_spacing"]
 
 #: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
 PAPER_ALPHA = 0.012
@@ -30,7 +30,7 @@ WIDE_FROM = 0.02
 WIDEST_ALPHA = 0.03
 
 #: ... nor where more than this share of the ink lies in bands of lines that a bundle that
-#: wide cannot hold (:func:`banded_share`: hatching, a spiral's arms)
+#: wide cannot hold (:func:`banded_shares`: hatching, a spiral's arms)
 WIDE_BANDED = 0.1
 
 #: input ink runs along a section's line where the |cos| between them is at least this
@@ -208,7 +208,7 @@ class SimplifyParams:
         times its spacing, at most :data:`WIDEST_ALPHA` and the median-length cap) is at
         least :data:`WIDE_FROM`, that width and the one halfway down to LOOSE_ALPHA, each
         unless more than :data:`WIDE_BANDED` of the ink lies in bands of lines a bundle that
-        wide cannot hold (:func:`banded_share`), and each kept only where its result keeps
+        wide cannot hold (:func:`banded_shares`), and each kept only where its result keeps
         the ink (:data:`core.simplify.KEEP_REACH`).
 
         Why tried and checked: a loose drawing's passes lie farther apart than LOOSE_ALPHA
@@ -240,8 +240,9 @@ class SimplifyParams:
                 alphas = [max(min(max(SPACING_SHARE * spacing, PAPER_ALPHA), LOOSE_ALPHA, cap),
                               MIN_ALPHA)]
                 if wide >= WIDE_FROM:
-                    alphas = [w for w in (wide, (wide + LOOSE_ALPHA) / 2)
-                              if banded_share(unit_strokes, w) <= WIDE_BANDED] + alphas
+                    tries = [wide, (wide + LOOSE_ALPHA) / 2]
+                    alphas = [w for w, banded in zip(tries, banded_shares(unit_strokes, tries))
+                              if banded <= WIDE_BANDED] + alphas
         return [replace(self, alpha=alpha, fill_gap=self._fill_gap(alpha, spacing))
                 for alpha in alphas]
 
@@ -279,28 +280,33 @@ def ink_spacing(unit_strokes: list[np.ndarray]) -> float:
     return cells * INK_CELL ** 2 / length
 
 
-
-def banded_share(unit_strokes: list[np.ndarray], width: float) -> float:
-    """The share of the ink, in the unit frame, that a bundle ``width`` wide cannot hold:
-    where the section square to a stroke (every quarter of ``width``, ``2 * width`` each
-    side) meets passes running along it (within about 26 degrees) chained by gaps of at
-    most ``width`` into a band wider than ``width``. Hatching or a spiral's arms less than
-    ``width`` apart are such bands, and a ``width`` this wide would merge their lines; the
-    passes of one loose line drawn over and over are not, where they span no more than it.
+def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[float]:
+    """For each width: the share of the ink, in the unit frame, that a bundle that wide
+    cannot hold. That is where the section square to a stroke (every quarter of the
+    width, twice the width each side) meets passes running along it (within about 26
+    degrees) chained by gaps of at most the width into a band wider than it. Hatching or
+    a spiral's arms closer than the width are such bands, and a width this wide would
+    merge their lines; the passes of one loose line drawn over and over are not, where
+    they span no more than it.
 
     >>> t = np.linspace(0, 1, 101)[:, None]
     >>> two = [np.hstack([t, 0.3 + 0 * t]), np.hstack([t, 0.33 + 0 * t])]  # one line, twice
-    >>> banded_share(two, 0.03)
-    0.0
+    >>> banded_shares(two, [0.03])
+    [0.0]
     >>> hatch = [np.hstack([t, 0.3 + 0.025 * k + 0 * t]) for k in range(8)]
-    >>> banded_share(hatch, 0.03), banded_share(hatch, 0.0225)  # chained, then apart
-    (1.0, 0.0)
+    >>> banded_shares(hatch, [0.03, 0.0225])  # chained, then apart
+    [1.0, 0.0]
     """
+    segments = Segments.of(unit_strokes)
+    return [_banded_share(unit_strokes, segments, width) for width in widths]
+
+
+def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: float) -> float:
     sizes = np.fromiter(map(len, unit_strokes), dtype=np.intp, count=len(unit_strokes))
     points, counts = resample_polylines(np.concatenate(unit_strokes), sizes, width / 4)
     tangent = np.concatenate([unit_rows(np.gradient(p, axis=0)) if len(p) > 1 else
                               np.zeros_like(p) for p in np.split(points, np.cumsum(counts)[:-1])])
-    sec, offset = Segments.of(unit_strokes).crossings(points, tangent, 2 * width, ALONG_COS)
+    sec, offset = segments.crossings(points, tangent, 2 * width, ALONG_COS)
     order = np.lexsort((offset, sec))
     sec, offset = sec[order], offset[order]
     if not len(sec):
