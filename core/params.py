@@ -199,7 +199,7 @@ class SimplifyParams:
         >>> round(SimplifyParams().resolved(short).alpha, 6)
         0.01
         """
-        return self.widths(unit_strokes)[-1]
+        return self._widths(unit_strokes, wider=False)[-1]
 
     def widths(self, unit_strokes: list[np.ndarray] | None = None) -> list[SimplifyParams]:
         """The resolved params that :func:`core.simplify` tries, widest first: the last is
@@ -228,6 +228,10 @@ class SimplifyParams:
         >>> [round(p.alpha, 4) for p in SimplifyParams().widths(hatch)]  # not merged at 3%
         [0.0225, 0.015]
         """
+        return self._widths(unit_strokes, wider=True)
+
+    def _widths(self, unit_strokes: list[np.ndarray] | None, wider: bool
+                ) -> list[SimplifyParams]:
         if self.alpha != "auto" and self.fill_gap != "auto":
             return [self]
         spacing = ink_spacing(unit_strokes) if unit_strokes else None
@@ -239,7 +243,7 @@ class SimplifyParams:
                 wide = min(SPACING_SHARE * spacing, WIDEST_ALPHA, cap)
                 alphas = [max(min(max(SPACING_SHARE * spacing, PAPER_ALPHA), LOOSE_ALPHA, cap),
                               MIN_ALPHA)]
-                if wide >= WIDE_FROM:
+                if wider and wide >= WIDE_FROM:
                     tries = [wide, (wide + LOOSE_ALPHA) / 2]
                     alphas = [w for w, banded in zip(tries, banded_shares(unit_strokes, tries))
                               if banded <= WIDE_BANDED] + alphas
