@@ -7,7 +7,7 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
-from .arrays.geometry import Segments, unit_rows
+from .arrays.geometry import Segments, tangents
 from .arrays.polylines import resample_polylines, total_lengths
 from .sketch import SketchError
 
@@ -308,8 +308,7 @@ def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[f
 def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: float) -> float:
     sizes = np.fromiter(map(len, unit_strokes), dtype=np.intp, count=len(unit_strokes))
     points, counts = resample_polylines(np.concatenate(unit_strokes), sizes, width / 4)
-    tangent = np.concatenate([unit_rows(np.gradient(p, axis=0)) if len(p) > 1 else
-                              np.zeros_like(p) for p in np.split(points, np.cumsum(counts)[:-1])])
+    tangent = np.concatenate([tangents(p) for p in np.split(points, np.cumsum(counts)[:-1])])
     sec, offset = segments.crossings(points, tangent, 2 * width, ALONG_COS)
     order = np.lexsort((offset, sec))
     sec, offset = sec[order], offset[order]

@@ -13,7 +13,7 @@ from .polylines import resample_polylines
 
 __all__ = [
     "Reached", "Segments", "directions_at", "lines_from", "nearest_on", "polygons_from",
-    "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates", "unit_rows",
+    "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates", "tangents", "unit_rows",
 ]
 
 
@@ -77,6 +77,22 @@ def unit_rows(vectors: np.ndarray) -> np.ndarray:
     """
     norm = np.hypot(vectors[:, 0], vectors[:, 1])
     return vectors / np.where(norm > 0, norm, 1.0)[:, None]
+
+
+def tangents(points: np.ndarray, closed: bool = False) -> np.ndarray:
+    """Unit tangents (n, 2) of an evenly spaced polyline by central differences (one-sided
+    at an open line's ends); a ring's wrap round its seam (its first point repeated
+    last); a single point's is 0.
+
+    >>> tangents(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])).round(3).tolist()
+    [[1.0, 0.0], [0.707, 0.707], [0.0, 1.0]]
+    """
+    if len(points) < 2:
+        return np.zeros_like(points)
+    if not closed:
+        return unit_rows(np.gradient(points, axis=0))
+    ring = np.vstack([points[-2:-1], points, points[1:2]])
+    return unit_rows(np.gradient(ring, axis=0)[1:-1])
 
 
 def nearest_on(lines, points) -> np.ndarray:

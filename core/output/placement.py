@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..arrays.geometry import lines_from, unit_rows
+from ..arrays.geometry import lines_from, tangents
 from ..arrays.polylines import gaussian_kernel, smoothed_ring
 from .attributes import NearestInk
 
@@ -57,16 +57,6 @@ PLACE_PRIOR = 1.0
 #: input ink runs along an output line where the angle between them has at least this
 #: |cos| (within about 26 degrees); ink across the line (a crossing stroke) is no part of it
 PLACE_ALONG_COS = 0.9
-
-
-def _tangents(points: np.ndarray, closed: bool) -> np.ndarray:
-    """Unit tangents (n, 2) of an evenly spaced polyline by central differences, as
-    elsewhere in the output stage (``unit_rows(np.gradient(...))``); a ring's wrap round
-    its seam (its first point repeated last)."""
-    if not closed:
-        return unit_rows(np.gradient(points, axis=0))
-    ring = np.vstack([points[-2:-1], points, points[1:2]])
-    return unit_rows(np.gradient(ring, axis=0)[1:-1])
 
 
 def _smoothed(values: np.ndarray, sigma: float, closed: bool) -> np.ndarray:
@@ -139,7 +129,7 @@ def centred_on_ink(lines: list[np.ndarray], closed: list[bool], ink: NearestInk,
     sizes = np.array([len(p) for p in lines])
     points = np.concatenate(lines)
     line_of = np.repeat(np.arange(len(lines)), sizes)
-    tangent = np.concatenate([_tangents(p, c) for p, c in zip(lines, closed)])
+    tangent = np.concatenate([tangents(p, c) for p, c in zip(lines, closed)])
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
     sec, s = ink.segments.crossings(points, tangent, reach, PLACE_ALONG_COS)
     if len(lines) > 1:  # ink nearer another output line is that line's (the nearest

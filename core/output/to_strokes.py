@@ -101,7 +101,7 @@ from ..arrays.geometry import (
     lines_from,
     nearest_on,
     split_coordinates,
-    unit_rows,
+    tangents,
 )
 from ..arrays.polylines import (
     arc_lengths,
@@ -559,7 +559,7 @@ def _doubled_run(pts: np.ndarray, spacing: float, others: list[int], lines: np.n
         return best, which
     others = [j for j, ok in zip(others, first.tolist()) if ok]
     geoms = shapely.points(pts)
-    tangent = unit_rows(np.gradient(pts, axis=0))
+    tangent = tangents(pts)
     near = shapely.distance(geoms[:, None], lines[others][None, :]) <= reach  # all at once
     runs = leading_count(near).tolist()
     for j, run in zip(others, runs):
