@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import tracemalloc
+
 import numpy as np
 import shapely
 
 from core.arrays.components import cluster_labels, tight_cluster_labels
 from core.arrays.geometry import lines_from
+from core.output.attributes import InkRows
 from core.output.bi_edges import InkFill
 from core.output.stroke_graph import Edge, build_graph
-from core.output.to_strokes import trim_doubled_ends
+from core.output.to_strokes import THROUGH_DETOUR, DrawnThrough, trim_doubled_ends
 
 
 def test_ends_within_snap_become_one_node():
@@ -99,3 +102,66 @@ def test_an_end_a_little_farther_off_is_cut_only_where_ink_fills_the_space_betwe
     [_, cut] = trim_doubled_ends([line, fork], 0.75, 30.0, filled, 1.0)
     assert cut.points[0, 1] == 0.0 and 2.0 <= cut.points[0, 0] <= 5.0  # starts on the line
     assert trim_doubled_ends([line, fork], 0.75, 30.0)[1].points is fork.points  # no fill
+
+
+def _drawn_by_every_pair(through: DrawnThrough, x: int, y: int) -> bool:
+    """DrawnThrough.drawn by its definition: some pass near probe x and some pass of the same
+    stroke near probe y, within the detour, with a pass near each node between them."""
+    sx, ax = through.at_probe.of(x)
+    sy, ay = through.at_probe.of(y)
+    nx, ny = int(through.end_node[x]), int(through.end_node[y])
+    way = through.way[x] + np.hypot(*(through.nodes[nx] - through.nodes[ny])) + through.way[y]
+    reach = THROUGH_DETOUR * way + 2 * through.radius
+    for i in range(len(sx)):
+        for j in range(len(sy)):
+            lo, hi = sorted((ax[i], ay[j]))
+            if sx[i] != sy[j] or hi - lo > reach:
+                continue
+            if all(((sn == sx[i]) & (an >= lo) & (an <= hi)).any()
+                   for sn, an in (through.at_node.of(n) for n in {nx, ny})):
+                return True
+    return False
+
+
+def _random_rows(rng, points: int, lengths: np.ndarray, most: int) -> InkRows:
+    """Rows as NearestInk.passing gives them: running arc lengths, a gap of 1 between
+    strokes."""
+    offsets = np.concatenate([[0.0], np.cumsum(lengths + 1.0)[:-1]])
+    counts = rng.integers(0, most + 1, points)
+    stroke = rng.integers(0, len(lengths), counts.sum())
+    at = offsets[stroke] + rng.uniform(0, 1, len(stroke)) * lengths[stroke]
+    return InkRows(np.concatenate([[0], np.cumsum(counts)]), stroke, at)
+
+
+def test_a_stroke_drawn_through_a_junction_is_found_as_by_comparing_every_pair_of_passes():
+    rng = np.random.default_rng(3)
+    found = 0
+    for _ in range(3000):
+        lengths = rng.uniform(0.01, 0.3, rng.integers(1, 4))
+        way = rng.uniform(0, rng.choice([0.1, 1.0]), 6)  # a detour past the next stroke too
+        through = DrawnThrough(way, rng.integers(0, 3, 6),
+                               rng.uniform(0, 0.1, (3, 2)), _random_rows(rng, 6, lengths, 5),
+                               _random_rows(rng, 3, lengths, 5), rng.uniform(0.005, 0.05))
+        x, y = rng.choice(6, 2, replace=False)
+        expected = _drawn_by_every_pair(through, x, y)
+        assert through.drawn(x, y) == expected
+        found += expected
+    assert 500 < found < 2500  # both answers are tried often
+
+
+def test_thousands_of_passes_near_a_junction_take_little_memory():
+    """Found in CI: a 100,000-point stroke gives tens of thousands of rows near one probe,
+    and comparing every row with every row took gigabytes."""
+    n = 5_000  # rows of one densely sampled stroke near each probe and node
+    rows = InkRows(np.array([0, n, 2 * n]), np.zeros(2 * n, dtype=int),
+                   np.concatenate([np.linspace(0.0, 0.1, n), np.linspace(0.4, 0.5, n)]))
+    node = InkRows(np.array([0, n]), np.zeros(n, dtype=int), np.linspace(0.2, 0.3, n))
+    through = DrawnThrough(np.array([0.1, 0.1]), np.array([0, 0]), np.zeros((1, 2)),
+                           rows, node, 0.05)
+    tracemalloc.start()
+    try:
+        assert through.drawn(0, 1)  # from 0.1 to 0.4 is within 1.5 * 0.2 + 0.1
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 10e6, peak  # every pair: arrays of 5,000 squared, 25 million items each

@@ -357,21 +357,41 @@ class DrawnThrough:
 
     def drawn(self, x: int, y: int) -> bool:
         """Whether an input stroke runs from end ``x`` through their node (or across the gap
-        between their nodes) onto end ``y``."""
+        between their nodes) onto end ``y``.
+
+        Rows are one per input segment near a point, so a densely sampled stroke gives
+        thousands; comparing every row near one probe with every row near the other took
+        gigabytes on a 100,000-point stroke. The running arc length orders the rows by
+        stroke too (a gap of 1 between strokes), so for each pass near ``x`` only the
+        farthest pass near ``y`` on either side of it along the same stroke is compared:
+        the span between them holds any nearer one's, so it passes near the nodes if any
+        does. Sorting and binary search, O(n log n)."""
         sx, ax = self.at_probe.of(x)
         sy, ay = self.at_probe.of(y)
         nx, ny = int(self.end_node[x]), int(self.end_node[y])
         way = self.way[x] + np.hypot(*(self.nodes[nx] - self.nodes[ny])) + self.way[y]
-        i, j = np.nonzero((sx[:, None] == sy[None, :])
-                          & (np.abs(ax[:, None] - ay[None, :]) <= THROUGH_DETOUR * way
-                             + 2 * self.radius))
-        stroke, lo, hi = sx[i], np.minimum(ax[i], ay[j]), np.maximum(ax[i], ay[j])
+        reach = THROUGH_DETOUR * way + 2 * self.radius
+        order = np.argsort(ay, kind="stable")
+        sy, ay = sy[order], ay[order]  # sorted by running arc length, so by stroke too
+        if not len(ay):
+            return False
+        up = np.minimum(np.searchsorted(ay, ax + reach, "right"),
+                        np.searchsorted(sy, sx, "right")) - 1
+        down = np.maximum(np.searchsorted(ay, ax - reach, "left"),
+                          np.searchsorted(sy, sx, "left"))
+        up_c, down_c = np.clip(up, 0, len(ay) - 1), np.clip(down, 0, len(ay) - 1)
+        ok_up = (up >= 0) & (sy[up_c] == sx) & (ay[up_c] >= ax)
+        ok_down = (down < len(ay)) & (sy[down_c] == sx) & (ay[down_c] <= ax)
+        lo = np.concatenate([ax[ok_up], ay[down_c[ok_down]]])
+        hi = np.concatenate([ay[up_c[ok_up]], ax[ok_down]])
         for node in dict.fromkeys((nx, ny)):  # and near the node(s) on the way
-            sn, an = self.at_node.of(node)
-            stroke_ok = ((sn[None, :] == stroke[:, None]) & (an[None, :] >= lo[:, None])
-                         & (an[None, :] <= hi[:, None])).any(axis=1)
-            stroke, lo, hi = stroke[stroke_ok], lo[stroke_ok], hi[stroke_ok]
-        return len(stroke) > 0
+            an = np.sort(self.at_node.of(node)[1])  # within [lo, hi]: the same stroke
+            if not len(an):
+                return False
+            first = np.searchsorted(an, lo, "left")
+            keep = (first < len(an)) & (an[np.minimum(first, len(an) - 1)] <= hi)
+            lo, hi = lo[keep], hi[keep]
+        return len(lo) > 0
 
 
 def join_edges(graph: StrokeGraph, params: SimplifyParams, at_junctions: bool = True,
