@@ -12,8 +12,8 @@ from .arrays.polylines import resample_polylines, total_lengths
 from .sketch import SketchError
 
 __all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA", "MIN_ALPHA",
-           "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "WIDEST_ALPHA", "WIDE_BANDED",
-           "WIDE_FROM", "SimplifyParams", "banded_shares", "ink_spacing"]
+           "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "SWAP_SHARE", "WIDEST_ALPHA",
+           "WIDE_BANDED", "WIDE_FROM", "SimplifyParams", "banded_shares", "ink_spacing"]
 
 #: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
 PAPER_ALPHA = 0.012
@@ -35,6 +35,11 @@ WIDE_BANDED = 0.1
 
 #: input ink runs along a section's line where the |cos| between them is at least this
 ALONG_COS = 0.9
+
+#: a band's passes wander across each other (one loose line, not hatching) where two lie
+#: over half the width to either side of each other, each side along at least this share
+#: of their way together (:func:`_swapping`)
+SWAP_SHARE = 0.2
 
 #: the cells, as a fraction of the drawing's diagonal, that :func:`ink_spacing` counts
 INK_CELL = 0.02
@@ -288,10 +293,11 @@ def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[f
     """For each width: the share of the ink, in the unit frame, that a bundle that wide
     cannot hold. That is where the section square to a stroke (every quarter of the
     width, twice the width each side) meets passes running along it (within about 26
-    degrees) chained by gaps of at most the width into a band wider than it. Hatching or
-    a spiral's arms closer than the width are such bands, and a width this wide would
-    merge their lines; the passes of one loose line drawn over and over are not, where
-    they span no more than it.
+    degrees) chained by gaps of at most the width into a band wider than it, unless the
+    band's passes wander across each other (:func:`_swapping`). Hatching or a spiral's arms
+    closer than the width are such bands, and a width this wide would merge their lines;
+    the passes of one loose line drawn over and over are not, where they span no more
+    than it or cross from side to side of it.
 
     >>> t = np.linspace(0, 1, 101)[:, None]
     >>> two = [np.hstack([t, 0.3 + 0 * t]), np.hstack([t, 0.33 + 0 * t])]  # one line, twice
@@ -300,6 +306,10 @@ def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[f
     >>> hatch = [np.hstack([t, 0.3 + 0.025 * k + 0 * t]) for k in range(8)]
     >>> banded_shares(hatch, [0.03, 0.0225])  # chained, then apart
     [1.0, 0.0]
+    >>> loose = [np.hstack([t, 0.5 + 0.02 * np.sin(2 * np.pi * (1.5 * t + k / 4))])
+    ...          for k in range(4)]  # four passes wandering over a band 4% wide
+    >>> banded_shares(loose, [0.03])
+    [0.0]
     """
     segments = Segments.of(unit_strokes)
     return [_banded_share(unit_strokes, segments, width) for width in widths]
@@ -309,20 +319,60 @@ def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: flo
     sizes = np.fromiter(map(len, unit_strokes), dtype=np.intp, count=len(unit_strokes))
     points, counts = resample_polylines(np.concatenate(unit_strokes), sizes, width / 4)
     tangent = np.concatenate([tangents(p) for p in np.split(points, np.cumsum(counts)[:-1])])
-    sec, offset = segments.crossings(points, tangent, 2 * width, ALONG_COS)
-    order = np.lexsort((offset, sec))
-    sec, offset = sec[order], offset[order]
+    cross = segments.crossings(points, tangent, 2 * width, ALONG_COS)
+    order = np.lexsort((cross.offset, cross.section))
+    sec, offset, passing = cross.section[order], cross.offset[order], cross.polyline[order]
     if not len(sec):
         return 0.0
     first = np.ones(len(sec), dtype=bool)  # each chain's first crossing
     first[1:] = (sec[1:] != sec[:-1]) | (np.diff(offset) > width)
+    chain = np.cumsum(first) - 1
     begins = np.flatnonzero(first)
-    span = (np.maximum.reduceat(offset, begins) - np.minimum.reduceat(offset, begins))[
-        np.cumsum(first) - 1]
+    span = (np.maximum.reduceat(offset, begins) - np.minimum.reduceat(offset, begins))[chain]
     # each section's own chain: the one through its crossing nearest the middle
     nearest = np.full(len(points), np.inf)
     np.minimum.at(nearest, sec, np.abs(offset))
     own = np.abs(offset) == nearest[sec]
+    own_chain = np.full(len(points), -1)
+    own_chain[sec[own]] = chain[own]
     banded = np.zeros(len(points), dtype=bool)
     banded[sec[own]] = span[own] > width
+    in_band = chain == own_chain[sec]
+    owner = np.repeat(np.arange(len(counts)), counts)
+    banded[_swapping(owner[sec[in_band]], passing[in_band], offset[in_band], sec[in_band],
+                     width)] = False
     return float(banded.mean())
+
+
+def _swapping(owner: np.ndarray, passing: np.ndarray, offset: np.ndarray,
+              section: np.ndarray, width: float) -> np.ndarray:
+    """The sections, among those given, where another stroke in the band lies more than
+    half the width to one side of the section's stroke along at least :data:`SWAP_SHARE`
+    of the sections where they run together, and as far to the other side along as much.
+
+    The passes of one loose line drawn over and over wander across each other and across
+    its middle; hatching's lines and a spiral's arms keep their sides, each pass of a
+    hatch line drawn twice stays within its line, and neighbours crossing near their ends
+    swap along less than a fifth of their way (measured on test drawings of each: see
+    tests/test_simplify.py).
+
+    Args:
+        owner, passing: (k,) per crossing in a band, the stroke of its section and the
+            stroke crossing it.
+        offset: (k,) the crossing's signed distance from the section's middle.
+        section: (k,) the crossing's section.
+        width: the bundle width tried.
+
+    Returns:
+        The sections (indices into the sections, possibly repeated) whose band swaps.
+    """
+    other = passing != owner
+    pair = owner[other].astype(np.int64) * (int(passing.max(initial=0)) + 1) + passing[other]
+    if not len(pair):
+        return np.zeros(0, dtype=np.intp)
+    _, group = np.unique(pair, return_inverse=True)
+    side = offset[other] / (width / 2)
+    below = np.bincount(group, side <= -1)
+    above = np.bincount(group, side >= 1)
+    swaps = np.minimum(below, above) >= SWAP_SHARE * np.bincount(group)
+    return section[other][swaps[group]]

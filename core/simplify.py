@@ -2,7 +2,8 @@
 
 Under "auto" alpha a sparse drawing is tried wider than :data:`core.params.LOOSE_ALPHA`
 first (:meth:`SimplifyParams.widths`: its ink's own width, then halfway down, each unless
-its lines lie in bands that wide), and a wider result is kept only where it keeps the
+its lines lie in bands that wide, passes that wander across each other being one loose
+line, not a band), and a wider result is kept only where it keeps the
 ink: at most :data:`KEEP_LEFT` of the drawing's ink, and :data:`KEEP_STROKE` of any one
 stroke, farther than :data:`KEEP_REACH` of its diagonal (or its canvas's, if smaller)
 from the output. It is judged at :data:`KEEP_EPSILON` whatever the epsilon asked, so that
@@ -19,7 +20,11 @@ unchanged. Without the band test 23 changed, 15 for the better (dev branch 1.000
 0.436, bend 0.997 -> 0.544), but lines 2.5% of the diagonal apart in hatching merged in
 pairs and a spiral's arms 2% apart into one line, with all the ink kept: a share of ink
 kept cannot see two lines become one. Without the per-stroke share a 3%-long stem at right
-angles to a line was trimmed as a spur (a small share of the ink). Time, interleaved at
+angles to a line was trimmed as a spur (a small share of the ink). Counting a band whose
+passes swap sides across it as one loose line (:data:`core.params.SWAP_SHARE`) widened 3
+more: held out handdrawn 0.854 -> 0.739 (the worst of the set, now loop2 0.760),
+u_single 0.523 -> 0.465, dev spiral3 0.205 -> 0.050 (ink kept 0.992, its arms apart);
+nothing else moved. Time, interleaved at
 a pace of 0.08 s: the 20 dev sketches that try a wider width 0.157 -> 0.332 s median (2.0
 times: two or three runs, on the small sparse drawings), 40 sketches spread over all 190
 0.794 -> 0.769 s median (unchanged within noise).

@@ -20,7 +20,7 @@ from core.arrays.geometry import lines_from
 from core.output.attributes import NearestInk
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import join_edges, trim_spurs
-from core.params import LOOSE_ALPHA, MIN_ALPHA, SimplifyParams
+from core.params import LOOSE_ALPHA, MIN_ALPHA, SimplifyParams, banded_shares
 
 
 def wobbly(a, b, offset, n=40, amplitude=0.0, phase=0.0):
@@ -414,6 +414,54 @@ def test_a_hatch_of_lines_2_5_percent_apart_is_not_merged_by_a_wider_width():
     assert result.params.alpha < step / np.hypot(100, 7 * step) + 1e-9
     found = sorted(float(np.median(s.points[:, 1])) for s in result.strokes)
     assert found == pytest.approx([k * step for k in range(8)], abs=0.1 * step)
+
+
+def _rough_hatch(kind: str) -> list[np.ndarray]:
+    """Eight lines 2.5% of the diagonal apart, drawn roughly: each twice, the passes
+    crossing within their line (``"twice"``), or neighbours bending towards each other
+    over their last quarter until they cross (``"ends crossing"``)."""
+    t = np.linspace(0, 1, 201)[:, None]
+    if kind == "twice":
+        return [np.hstack([t, 0.3 + 0.025 * k + 0.004 * np.sin(2 * np.pi * (1.5 * t + ph))])
+                for k in range(8) for ph in (0, 0.5)]
+    return [np.hstack([t, 0.3 + 0.025 * k + 0.15 * np.clip(t - 0.75, 0, None) * (-1) ** k])
+            for k in range(8)]
+
+
+@pytest.mark.parametrize("kind", ["twice", "ends crossing"])
+def test_a_rough_hatch_is_a_band_though_its_passes_cross_within_a_line_or_near_the_ends(kind):
+    """Passes that cross each other are a loose line's only where they swap sides across
+    the band along a fifth of their way or more (SWAP_SHARE): a hatch line's two passes
+    stay within it, and neighbours crossing near their ends swap along about 5%. So 3%
+    stays too wide a bundle for the hatch (fails if any crossing counts as a swap)."""
+    assert banded_shares(_rough_hatch(kind), [0.03])[0] > 0.75
+
+
+@pytest.mark.parametrize("passes", [3, 4])
+def test_passes_wandering_across_each_other_over_a_wide_loose_line_are_not_a_band(passes):
+    """Three or four passes drawn over one line, each wandering 3.5 to 4% of the diagonal
+    from side to side across the others: wider than 3%, but one loose line, not a band
+    of lines (without the swap test: 28% and 92% banded)."""
+    t = np.linspace(0, 1, 201)[:, None]
+    amplitude = {3: 0.0175, 4: 0.02}[passes]
+    loose = [np.hstack([t, 0.5 + amplitude * np.sin(2 * np.pi * (1.5 * t + k / passes))])
+             for k in range(passes)]
+    assert banded_shares(loose, [0.03]) == [0.0]
+
+
+@pytest.mark.data
+def test_a_spiral_drawn_in_passes_crossing_within_its_arms_is_merged_wider_keeping_its_arms():
+    """spiral3 (StrokeStrip): each arm drawn in passes that cross each other. Sparse, so
+    "auto" tries 2.1% of the diagonal; its arms 2 to 3% apart chain into bands there, but
+    the passes swap sides within them, so the width is tried, and its result keeps the
+    ink (the arms stay apart) and is kept. Before the swap test the 1.5% result was kept."""
+    path, = [f for f in require_data() if f.name == "spiral3_SA_cluster.scap"]
+    sketch = read_sketch(path)
+    result = simplify(sketch)
+    assert result.params.alpha > LOOSE_ALPHA + 0.002
+    diag = float(np.hypot(sketch.width, sketch.height))
+    assert coverage([s.points for s in sketch.strokes], [s.points for s in result.strokes],
+                    0.02 * diag) > 0.98
 
 
 def test_where_the_wider_result_leaves_ink_out_the_loose_caps_result_is_kept(monkeypatch):

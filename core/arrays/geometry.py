@@ -12,8 +12,9 @@ import shapely
 from .polylines import resample_polylines
 
 __all__ = [
-    "Reached", "Segments", "directions_at", "lines_from", "nearest_on", "polygons_from",
-    "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates", "tangents", "unit_rows",
+    "Crossings", "Reached", "Segments", "directions_at", "lines_from", "nearest_on",
+    "polygons_from", "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates",
+    "tangents", "unit_rows",
 ]
 
 
@@ -153,7 +154,7 @@ class Segments:
                    shapely.STRtree(lines))
 
     def crossings(self, points: np.ndarray, tangent: np.ndarray, reach: float,
-                  along_cos: float) -> tuple[np.ndarray, np.ndarray]:
+                  along_cos: float) -> Crossings:
         """Where the segments running along ``tangent`` (|cos| at least ``along_cos``)
         cross the section through each of ``points`` square to it, ``reach`` each side.
 
@@ -164,16 +165,15 @@ class Segments:
             along_cos: the least |cos| between a segment and ``tangent``.
 
         Returns:
-            ``section`` and ``offset`` arrays: for each crossing, the index of its section
-            and its signed distance from the section's middle along the normal
-            ``(-tangent[1], tangent[0])``.
+            One row per crossing: its section, its signed distance from the section's
+            middle along the normal ``(-tangent[1], tangent[0])``, and the polyline of the
+            segment crossing.
 
         >>> segs = Segments.of([np.array([[0.0, 0.2], [1.0, 0.2]]),
         ...                     np.array([[0.5, -1.0], [0.5, 1.0]])])  # along, and across
-        >>> sec, offset = segs.crossings(np.array([[0.5, 0.0]]), np.array([[1.0, 0.0]]),
-        ...                              0.5, 0.9)
-        >>> sec.tolist(), offset.round(3).tolist()
-        ([0], [0.2])
+        >>> cross = segs.crossings(np.array([[0.5, 0.0]]), np.array([[1.0, 0.0]]), 0.5, 0.9)
+        >>> cross.section.tolist(), cross.offset.round(3).tolist(), cross.polyline.tolist()
+        ([0], [0.2], [0])
         """
         normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
         sections = shapely.linestrings(np.stack([points - reach * normal,
@@ -188,7 +188,16 @@ class Segments:
         rel, n = self.origin[seg] - points[sec], normal[sec]
         offset = (rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]) / (n[:, 0] * d[:, 1]
                                                                  - n[:, 1] * d[:, 0])
-        return sec, offset
+        return Crossings(sec, offset, self.polyline[seg])
+
+
+@dataclass(frozen=True)
+class Crossings:
+    """Where polylines cross sections (:meth:`Segments.crossings`), one row per crossing."""
+
+    section: np.ndarray  #: (k,) which section
+    offset: np.ndarray  #: (k,) signed distance from the section's middle along its normal
+    polyline: np.ndarray  #: (k,) which polyline crosses it
 
 
 @dataclass(frozen=True)

@@ -131,7 +131,8 @@ def centred_on_ink(lines: list[np.ndarray], closed: list[bool], ink: NearestInk,
     line_of = np.repeat(np.arange(len(lines)), sizes)
     tangent = np.concatenate([tangents(p, c) for p, c in zip(lines, closed)])
     normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
-    sec, s = ink.segments.crossings(points, tangent, reach, PLACE_ALONG_COS)
+    cross = ink.segments.crossings(points, tangent, reach, PLACE_ALONG_COS)
+    sec, s = cross.section, cross.offset
     if len(lines) > 1:  # ink nearer another output line is that line's (the nearest
         # sample's line: samples lie a quarter of the reach apart)
         samples = shapely.STRtree(shapely.points(points))
