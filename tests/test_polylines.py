@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
+import shapely
 
+from core import Stroke
+from core.arrays.geometry import Segments
 from core.arrays.polylines import (
     Polylines,
     arc_lengths,
@@ -14,6 +19,7 @@ from core.arrays.polylines import (
     total_lengths,
 )
 from core.merge.fourier import curve_descriptors, fourier_descriptors
+from core.output.attributes import NearestInk
 from core.output.stroke_graph import end_directions
 
 
@@ -103,3 +109,24 @@ def test_resampling_many_is_each_ones_own(spacing):
     np.testing.assert_array_equal(new_sizes, [len(a) for a in alone])
     assert points.tobytes() == np.concatenate(alone).tobytes()
     assert len(alone[-1]) >= 4
+
+
+def test_where_points_come_nearest_along_segments_is_geos_answer_to_the_bit():
+    rng = np.random.default_rng(0)
+    segs = Segments.of([rng.uniform(0, 1, (rng.integers(2, 30), 2)) for _ in range(100)])
+    seg = rng.integers(0, len(segs.start), 20_000)
+    points = rng.uniform(-0.2, 1.2, (20_000, 2))  # beyond the ends too
+    assert (segs.along(seg, points)
+            == shapely.line_locate_point(segs.lines[seg], shapely.points(points))).all()
+
+
+def test_ink_passing_a_segment_too_short_for_geos_is_found_at_the_stroke_start():
+    """Points 1e-300 apart are distinct to the cleaning, but GEOS cannot locate a point on
+    the segment between them (found by a hostile sketch: a RuntimeWarning and NaN, or
+    GEOSException on a single segment)."""
+    line = np.array([[0.0, 0.38], [1e-300, 0.38], [1.0, 0.38]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rows = NearestInk([Stroke(line)], [line]).passing(np.array([[0.0173, 0.3832]]), 0.1)
+    stroke, at = rows.of(0)
+    assert stroke.tolist() == [0, 0] and at.tolist() == [0.0, pytest.approx(0.0173)]

@@ -93,8 +93,7 @@ class NearestInk:
         i, seg = segs.tree.query(geoms, predicate="dwithin", distance=radius)
         order = np.argsort(i, kind="stable")
         i, seg = i[order], seg[order]
-        at = self.running[segs.start[seg]] + shapely.line_locate_point(segs.lines[seg],
-                                                                       geoms[i])
+        at = self.running[segs.start[seg]] + segs.along(seg, points[i])
         return InkRows(np.searchsorted(i, np.arange(len(points) + 1)), segs.polyline[seg], at)
 
     def _nearest(self, geoms: np.ndarray) -> np.ndarray:
@@ -127,12 +126,11 @@ class NearestInk:
         if not strokes:
             return []
         counts = [len(p) for p in strokes]
-        geoms = shapely.points(np.concatenate(strokes))
-        segment = self._nearest(geoms)
+        points = np.concatenate(strokes)
+        segment = self._nearest(shapely.points(points))
         segs = self.segments
         nearest = segs.polyline[segment]
-        where = self.running[segs.start[segment]] + shapely.line_locate_point(
-            segs.lines[segment], geoms)
+        where = self.running[segs.start[segment]] + segs.along(segment, points)
         cuts = np.cumsum(counts)[:-1]
         split = {name: [None] * len(strokes) if v is None else
                  np.split(np.interp(where, self.running, v), cuts)
