@@ -8,7 +8,7 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from .arrays.geometry import Segments, tangents
-from .arrays.polylines import resample_polylines, total_lengths
+from .arrays.polylines import resample_each, split, total_lengths
 from .sketch import SketchError
 
 __all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA", "MIN_ALPHA",
@@ -278,8 +278,7 @@ def ink_spacing(unit_strokes: list[np.ndarray]) -> float:
     >>> round(ink_spacing([np.hstack([t, 0.5 + 0 * t])]), 3)  # a line: its cells' width
     0.02
     """
-    sizes = np.fromiter(map(len, unit_strokes), dtype=np.intp, count=len(unit_strokes))
-    points, _ = resample_polylines(np.concatenate(unit_strokes), sizes, INK_CELL / 8)
+    points, _ = resample_each(unit_strokes, INK_CELL / 8)
     length = float(total_lengths(unit_strokes).sum())
     if length <= 0:
         return 0.0
@@ -316,9 +315,8 @@ def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[f
 
 
 def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: float) -> float:
-    sizes = np.fromiter(map(len, unit_strokes), dtype=np.intp, count=len(unit_strokes))
-    points, counts = resample_polylines(np.concatenate(unit_strokes), sizes, width / 4)
-    tangent = np.concatenate([tangents(p) for p in np.split(points, np.cumsum(counts)[:-1])])
+    points, counts = resample_each(unit_strokes, width / 4)
+    tangent = np.concatenate([tangents(p) for p in split(points, counts)])
     cross = segments.crossings(points, tangent, 2 * width, ALONG_COS)
     order = np.lexsort((cross.offset, cross.section))
     sec, offset, passing = cross.section[order], cross.offset[order], cross.polyline[order]

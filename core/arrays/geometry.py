@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from .polylines import resample_polylines
+from .polylines import resample_each
 
 __all__ = [
     "Crossings", "Reached", "Segments", "directions_at", "lines_from", "nearest_on",
@@ -240,9 +240,7 @@ class Reached:
            spacing: float) -> Reached:
         """``polylines`` (each at least one point) sampled every ``spacing``, against
         ``lines`` (each at least two points)."""
-        sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
-        points, count = (resample_polylines(np.concatenate(polylines), sizes, spacing)
-                         if polylines else (np.empty((0, 2)), sizes))
+        points, count = resample_each(polylines, spacing)
         polyline = np.repeat(np.arange(len(polylines)), count)
         if not lines or not len(points):
             return cls(polyline, count, np.empty(0, np.intp), np.empty(0, np.intp))

@@ -23,7 +23,7 @@ import numpy as np
 
 __all__ = [
     "arc_lengths", "end_to_end", "gaussian_kernel", "leading_count", "points_at", "Polylines",
-    "resample_polyline", "resample_polylines", "smoothed_ring", "split", "starts",
+    "resample_each", "resample_polyline", "resample_polylines", "smoothed_ring", "split", "starts",
     "total_lengths",
 ]
 
@@ -249,6 +249,21 @@ def points_at(t: np.ndarray, s: np.ndarray, points: np.ndarray) -> np.ndarray:
     out[:, 0] = np.interp(t, s, points[:, 0])
     out[:, 1] = np.interp(t, s, points[:, 1])
     return out
+
+
+def resample_each(polylines: list[np.ndarray], spacing: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each of a list of polylines (each at least one point) resampled every ``spacing``
+    (:func:`resample_polylines`): the points of all and how many each has.
+
+    >>> points, sizes = resample_each([np.array([[0.0, 0.0], [1.0, 0.0]]),
+    ...                                np.array([[0.0, 1.0], [0.0, 3.0]])], 0.5)
+    >>> sizes.tolist(), points[sizes[0]].tolist()
+    ([3, 5], [0.0, 1.0])
+    """
+    sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+    if not polylines:
+        return np.empty((0, 2)), sizes
+    return resample_polylines(np.concatenate(polylines), sizes, spacing)
 
 
 def resample_polylines(points: np.ndarray, sizes: np.ndarray, spacing: float
