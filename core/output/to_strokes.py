@@ -368,13 +368,13 @@ class DrawnThrough:
         does. Sorting and binary search, O(n log n)."""
         sx, ax = self.at_probe.of(x)
         sy, ay = self.at_probe.of(y)
+        if not len(ax) or not len(ay):
+            return False
         nx, ny = int(self.end_node[x]), int(self.end_node[y])
         way = self.way[x] + np.hypot(*(self.nodes[nx] - self.nodes[ny])) + self.way[y]
         reach = THROUGH_DETOUR * way + 2 * self.radius
         order = np.argsort(ay, kind="stable")
         sy, ay = sy[order], ay[order]  # sorted by running arc length, so by stroke too
-        if not len(ay):
-            return False
         up = np.minimum(np.searchsorted(ay, ax + reach, "right"),
                         np.searchsorted(sy, sx, "right")) - 1
         down = np.maximum(np.searchsorted(ay, ax - reach, "left"),
