@@ -62,7 +62,9 @@ def drawing_plane(positions: np.ndarray) -> Plane:
     if len(pts) == 0:
         raise SketchError("no point has finite coordinates")
     centre = pts.mean(axis=0)
-    _, sv, vt = np.linalg.svd(pts - centre, full_matrices=True)
+    # the thin SVD: (n, 3) and 3 x 3 factors, memory and time linear in the points (the
+    # full one built an n x n matrix: 640 GiB for a 5,000-stroke layer)
+    _, sv, vt = np.linalg.svd(pts - centre, full_matrices=False)
     if len(sv) < 2 or sv[0] <= 1e-300:
         return Plane(centre, np.array([[1.0, 0, 0], [0, 0, 1.0]]))  # one point: X-Z
     if sv[1] <= 1e-12 * sv[0]:  # on one line: any plane through it, the most upright

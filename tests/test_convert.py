@@ -156,3 +156,25 @@ def test_a_point_at_1e30_is_broken_data_and_ordinary_ink_is_not():
     assert np.flatnonzero(far_out(broken)).tolist() == [7, 20]
     far_mark = np.concatenate([pts, pts[:2] + [40.0, 0, 0]])  # a stray mark is ink
     assert not far_out(far_mark).any()
+
+
+def test_a_dense_layer_finds_its_plane_in_memory_linear_in_its_points():
+    # 200,000 points on a tilted plane: the full SVD's n x n factor would be 320 GB
+    import tracemalloc
+
+    rng = np.random.default_rng(7)
+    uv = rng.uniform(-1, 1, (200_000, 2))
+    normal = np.array([0.2, -0.3, 1.0]) / np.linalg.norm([0.2, -0.3, 1.0])
+    a = np.cross(normal, [1.0, 0, 0])
+    a /= np.linalg.norm(a)
+    b = np.cross(normal, a)
+    pts = uv[:, :1] * a + uv[:, 1:] * b + [5.0, 1.0, -2.0]
+    tracemalloc.start()
+    try:
+        plane = drawing_plane(pts)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 60 * pts.nbytes  # a few copies of the points, never n x n
+    fitted = np.cross(*plane.axes)
+    assert abs(abs(fitted @ normal) - 1) < 1e-9  # the plane is the points' own
