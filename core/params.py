@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 
@@ -11,7 +11,8 @@ from .arrays.geometry import Segments, tangents
 from .arrays.polylines import resample_each, split, total_lengths
 from .sketch import SketchError
 
-__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA", "MIN_ALPHA",
+__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LINE_STAGES", "LOOSE_ALPHA",
+           "MIN_ALPHA", "Tuning",
            "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "SWAP_SHARE", "WIDEST_ALPHA",
            "WIDE_BANDED", "WIDE_FROM", "SimplifyParams", "banded_shares", "ink_spacing"]
 
@@ -55,6 +56,66 @@ MIN_ALPHA = 1e-4
 
 #: "auto" fill_gap is the ink's spacing, at most this share of d_eps (see resolved)
 FILL_GAP_SHARE = 0.7
+
+#: the output stages (:attr:`SimplifyParams.lines`): lines drawn from the pen's strokes
+#: (:mod:`core.lines`), or chained from the complex's pieces (:mod:`core.output`)
+LINE_STAGES = ("pen", "complex")
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """The tuned constants of the pen stage (:mod:`core.lines`), in one place. Lengths are
+    multiples of the bundle width d_eps; each says why it is what it is. How each was
+    measured is in ``docs/decisions.md``.
+
+    cut_angle       a stroke is cut where it turns more than this (degrees) within
+                    cut_reach d_eps each side: a corner drawn in one motion is two lines
+    cut_reach       see cut_angle; 2: a corner drawn rounded (radius up to about 2 d_eps)
+                    is a corner too
+    follow_reach    a stroke's sample follows the complex's nearest alive curve within
+                    this (what merges keep lies within d_eps of what they removed)
+    follow_cos      ... running along it, |cos| at least this (30 degrees: the merge angle)
+    shared_share    two pieces that follow the same alive curves together are one line
+                    when they do along this share of the shorter one's length (summed
+                    over the curves: a long stroke follows many, each cut at a crossing)
+    shared_length   ... or this long
+    shared_gap      ... overlapping where they follow a curve, or at most this apart
+    member_share    a piece stays in its group when at least this share of it lies within
+                    member_reach of the group's fitted line (else it is split off): the
+                    trade-off between whole lines and doubled ones (docs/decisions.md)
+    member_reach    see member_share; 1.5: a loose pass lies up to d_eps off the middle
+    along_share     pass 5 joins two fitted lines when this share of the shorter lies
+                    within d_eps of the longer, running along it (doubled passes the
+                    merges left apart), where no clear band lies between their inks
+    bin             the centreline is fitted in bins this long along its spine ...
+    smooth          ... and its offsets smoothed by a Gaussian of this sigma
+    snap            an end within this of another line meets it (T and L junctions)
+    overshoot       an end that crosses another line and runs on past it at most this
+                    long is cut at the crossing: an overshoot, not a line drawn through
+    crumb           a line shorter than this whose every point lies within absorb_reach
+                    of a longer line is that line's (a hook at a stroke's end, a crumb
+                    at a junction): its pieces join that line's group; so is a longer
+                    one where no clear band lies between their inks (a loose pass)
+    absorb_reach    see crumb; 0.75: within the bundle width, with a margin
+    """
+
+    cut_angle: float = 70.0
+    cut_reach: float = 2.0
+    follow_reach: float = 1.0
+    follow_cos: float = 0.866
+    shared_share: float = 0.5
+    shared_length: float = 2.0
+    shared_gap: float = 1.0
+    member_share: float = 0.5
+    member_reach: float = 1.5
+    along_share: float = 0.6
+    bin: float = 0.25
+    smooth: float = 0.5
+    snap: float = 1.0
+    overshoot: float = 2.0
+    crumb: float = 3.0
+    absorb_reach: float = 0.75
+
 
 #: the top of epsilon's useful range (the add-on's slider ends here; beyond it drawings
 #: merge into blobs); a cached run covers it all, so that every slider position replays
@@ -102,6 +163,11 @@ class SimplifyParams:
     max_curves    refuse a sketch whose strokes cross into more curves than this (None: no
                   limit): the largest real sketches make about 17,000, and one of 100,000
                   takes many minutes
+    lines         the output stage: "complex" (default) chains the simplified complex's
+                  curves (:mod:`core.output`); "pen" fits one line to each group of input
+                  strokes the agglomeration says draw one line (:mod:`core.lines`)
+    skip          names of pen passes to leave out, for ablations (:data:`core.lines.PASSES`)
+    tuning        the pen stage's tuned constants (:class:`Tuning`)
     """
 
     epsilon: float = 0.015
@@ -118,11 +184,23 @@ class SimplifyParams:
     target_patches: int | None = None
     target_curves: int | None = None
     max_curves: int | None = 100_000
+    lines: str = "complex"
+    skip: tuple[str, ...] = ()
+    tuning: Tuning = Tuning()
 
     def __post_init__(self) -> None:
         def check(ok: bool, message: str) -> None:
             if not ok:
                 raise SketchError(f"bad parameter: {message}")
+
+        # params travel as plain data (as_dict, JSON, a cluster's task): rebuilt from it
+        if isinstance(self.tuning, dict):
+            known = {f.name for f in fields(Tuning)}
+            check(set(self.tuning) <= known,
+                  f"unknown tuning {sorted(set(self.tuning) - known)}")
+            object.__setattr__(self, "tuning", Tuning(**self.tuning))
+        if isinstance(self.skip, list):
+            object.__setattr__(self, "skip", tuple(self.skip))
 
         numbers = ("epsilon", "beta", "gamma", "angle", "join_angle", "corner_angle",
                    "fit_error", "smoothing") + (() if self.alpha == "auto" else ("alpha",)) \
@@ -144,6 +222,11 @@ class SimplifyParams:
         for name in ("angle", "join_angle", "corner_angle"):
             check(0 <= getattr(self, name) <= 180, f"{name} must be 0 to 180 degrees")
         check(0 < self.fit_error <= 1, f"fit_error must be in (0, 1], got {self.fit_error}")
+        check(self.lines in LINE_STAGES,
+              f"lines must be one of {', '.join(LINE_STAGES)}, got {self.lines!r}")
+        check(isinstance(self.skip, tuple) and all(isinstance(x, str) for x in self.skip),
+              f"skip must be a tuple of pass names, got {self.skip!r}")
+        check(isinstance(self.tuning, Tuning), "tuning must be a Tuning")
         for name in ("target_patches", "target_curves", "max_curves"):
             value = getattr(self, name)
             check(value is None or (isinstance(value, int) and value >= 0),

@@ -54,6 +54,7 @@ from .io.cleaning import (
     drawing_strokes,
     normalised_strokes,
 )
+from .lines import lines_from_pen
 from .merge.agglomeration import AgglomerationStats, agglomerate
 from .output.attributes import NearestInk
 from .output.memo import StrokeMemo
@@ -170,7 +171,12 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
             timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
-    fitted = to_strokes(state, params, memo, ink)
+    if params.lines == "pen":
+        pen = lines_from_pen(state, params.resolved(), ink.unit_points, memo)
+        fitted = pen.work.fitted
+        timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
+    else:
+        fitted = to_strokes(state, params, memo, ink)
     t1 = time.perf_counter()
     strokes = []
     for f, ink_of in zip(fitted, ink.transfer([f.points for f in fitted])):

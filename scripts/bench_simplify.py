@@ -29,7 +29,17 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from bench_complex import rough_files, sketch_name  # noqa: E402
-from metrics import coverage, doubled, fidelity, precision_recall_f, too_wide  # noqa: E402
+from metrics import (  # noqa: E402
+    chamfer,
+    cluster_reference,
+    coverage,
+    doubled,
+    doubled_on_reference,
+    fidelity,
+    precision_recall_f,
+    too_wide,
+    whole_lines,
+)
 
 from core import read_sketch  # noqa: E402
 from core.params import SimplifyParams  # noqa: E402
@@ -79,6 +89,12 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     input stroke and per intended curve); against the lift3d references, the F-score at 1%
     of D and the tight recall at 0.4%. And of the input alone: too_wide (the share of its
     ink that no single line keeps within 2% of D, its intended curve drawn wider than 4%).
+
+    Against the reference (lift3d's ``full_fit.scap``, else one line fitted per labelled
+    cluster, :func:`metrics.cluster_reference`): whole_lines (the share of reference curves
+    80% within 0.6% of D of one output stroke) and whole_lines_input (the same of the rough
+    strokes), doubled_ref (the share of the reference two output strokes run along), and
+    chamfer_px (symmetric Chamfer distance to the reference).
     """
     n_intended, reference = intended_curves(path, sketch)
     diag = diagonal(sketch)
@@ -96,6 +112,12 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     if reference is not None:
         row["f_score"] = precision_recall_f(out, reference, 0.01 * diag)[2]
         row["tight_recall"] = precision_recall_f(out, reference, 0.004 * diag)[1]
+    ref = reference if reference is not None else cluster_reference(ink, clusters, diag)
+    row |= {"reference": "drawn" if reference is not None else "clusters",
+            "whole_lines": whole_lines(out, ref, diag),
+            "whole_lines_input": whole_lines(ink, ref, diag),
+            "doubled_ref": doubled_on_reference(out, ref, diag),
+            "chamfer_px": chamfer(out, ref)}
     return row
 
 

@@ -15,6 +15,14 @@ sampled along them every ``spacing`` units, so that long segments count by their
 * doubled(output, ink, clusters, diagonal): the share of output ink running beside another
   output stroke over the same intended curve (a line left doubled);
 * changed(a, b, tol): the share of either drawing farther than ``tol`` from the other;
+* whole_lines(output, reference, diagonal): the share of reference curves of which at
+  least 80% of the length lies within 0.6% of the diagonal of ONE output stroke;
+* doubled_on_reference(output, reference, diagonal): the share of the reference's length
+  along which two different output strokes run parallel within 1% of the diagonal, away
+  from their ends, each nearer that curve than any other;
+* cluster_reference(ink, clusters, diagonal): for labelled sketches without a reference,
+  one line per labelled cluster (medians of its ink binned along its longest stroke), for
+  scoring only;
 * too_wide(ink, clusters, diagonal): the share of the input ink that no single line can
   keep within 2% of the diagonal (its intended curve drawn wider than 4% across): where a
   sketch is mostly such ink, ink kept and no doubled lines cannot both hold.
@@ -26,8 +34,9 @@ import numpy as np
 import shapely
 
 __all__ = [
-    "changed", "chamfer", "coverage", "doubled", "doubled_samples", "fidelity", "nearest_distances",
-    "precision_recall_f", "sample_points", "too_wide",
+    "changed", "chamfer", "cluster_reference", "coverage", "doubled", "doubled_on_reference",
+    "doubled_samples", "fidelity", "nearest_distances", "precision_recall_f", "sample_points",
+    "too_wide", "whole_lines",
 ]
 
 
@@ -216,3 +225,122 @@ def doubled_samples(output: list[np.ndarray], ink: list[np.ndarray], clusters: l
         same = parallel & (near_i == near_j)
         twin[np.searchsorted(inner, i[same])] = True
     return points[inner], twin
+
+
+def whole_lines(output: list[np.ndarray], reference: list[np.ndarray], diagonal: float,
+                tol_share: float = 0.006, share: float = 0.8) -> float:
+    """The share of reference curves of which at least ``share`` of the length lies within
+    ``tol_share`` of the diagonal of ONE output stroke: intended lines that come out whole.
+    Curves are sampled every 0.1% of the diagonal.
+
+    >>> t = np.linspace(0, 100, 11)[:, None]
+    >>> ref = [np.hstack([t, 0 * t]), np.hstack([0 * t, t])]
+    >>> whole_lines(ref, ref, 500.0)
+    1.0
+    >>> whole_lines([ref[0][:6], ref[0][5:], ref[1]], ref, 500.0)  # the first cut in half
+    0.5
+    """
+    points, which, _ = _samples(reference, 0.001 * diagonal)
+    lines = _lines(output)
+    if not len(points) or not len(lines):
+        return 0.0
+    i, k = shapely.STRtree(lines).query(shapely.points(points), predicate="dwithin",
+                                        distance=tol_share * diagonal)
+    n_out = len(lines)
+    pair = np.unique(which[i] * n_out + k)  # (curve, output stroke) per sample, once each
+    per_sample = np.unique(i * n_out + k)
+    counts = np.bincount(which[per_sample // n_out] * n_out + per_sample % n_out,
+                         minlength=len(reference) * n_out) if len(pair) else np.zeros(1)
+    best = counts.reshape(len(reference), n_out).max(axis=1) if len(pair) else np.zeros(
+        len(reference))
+    total = np.bincount(which, minlength=len(reference))
+    curves = total > 0
+    return float((best[curves] >= share * total[curves]).mean())
+
+
+def doubled_on_reference(output: list[np.ndarray], reference: list[np.ndarray],
+                         diagonal: float) -> float:
+    """The share of the reference's length along which two different output strokes run
+    parallel to it (|cos| >= 0.9) within 1% of the diagonal, each sample of them away from
+    its stroke's ends (3% of the diagonal) and nearer that reference curve than any other.
+
+    >>> t = np.linspace(0, 400, 41)[:, None]
+    >>> ref = [np.hstack([t, 0 * t])]
+    >>> doubled_on_reference(ref, ref, 500.0)
+    0.0
+    >>> doubled_on_reference([ref[0], ref[0] + [0, 2]], ref, 500.0) > 0.8
+    True
+    """
+    step = 0.0025 * diagonal
+    rpts, rwhich, _ = _samples(reference, step)
+    opts, owhich, oat = _samples(output, step)
+    if not len(rpts) or not len(opts):
+        return 0.0
+    lengths = np.array([shapely.length(shapely.LineString(p)) if len(p) >= 2 else 0.0
+                        for p in output])
+    end = 0.03 * diagonal
+    inner = (oat >= end) & (oat <= lengths[owhich] - end)
+    opts, owhich, otan = opts[inner], owhich[inner], _tangents(opts, owhich)[inner]
+    if not len(opts):
+        return 0.0
+    rtan = _tangents(rpts, rwhich)
+    rlines = _lines(reference)
+    own = np.asarray([k for k, p in enumerate(reference) if len(p) >= 2])
+    nearest_curve = own[shapely.STRtree(rlines).query_nearest(shapely.points(opts),
+                                                              all_matches=False)[1]]
+    r, o = shapely.STRtree(shapely.points(opts)).query(
+        shapely.points(rpts), predicate="dwithin", distance=0.01 * diagonal)
+    keep = ((nearest_curve[o] == rwhich[r])
+            & (np.abs((otan[o] * rtan[r]).sum(axis=1)) >= 0.9))
+    r, stroke = r[keep], owhich[o[keep]]
+    pairs = np.unique(r * (len(output) + 1) + stroke)
+    strokes_per_sample = np.bincount(pairs // (len(output) + 1), minlength=len(rpts))
+    return float((strokes_per_sample >= 2).mean())
+
+
+def cluster_reference(ink: list[np.ndarray], clusters: list[int], diagonal: float
+                      ) -> list[np.ndarray]:
+    """One line per labelled cluster, for scoring sketches that have labels but no clean
+    reference: the cluster's ink projected onto its longest stroke, the median offset in
+    bins of 0.5% of the diagonal along it, smoothed over three bins. The simplification
+    never reads labels; this only stands in for a drawn reference.
+
+    >>> t = np.linspace(0, 100, 21)[:, None]
+    >>> passes = [np.hstack([t, 0 * t + d]) for d in (-1.0, 0.0, 1.0)]
+    >>> line, = cluster_reference(passes, [7, 7, 7], 500.0)
+    >>> bool(np.abs(line[:, 1]).max() < 1e-9)
+    True
+    """
+    step = 0.005 * diagonal
+    out = []
+    clusters = np.asarray(clusters)
+    for c in np.unique(clusters):
+        members = [ink[k] for k in np.flatnonzero(clusters == c) if len(ink[k]) >= 2]
+        if not members:
+            continue
+        lengths = [shapely.length(shapely.LineString(p)) for p in members]
+        spine = shapely.LineString(members[int(np.argmax(lengths))])
+        if spine.length <= step:
+            out.append(np.asarray(spine.coords))
+            continue
+        count = int(np.ceil(spine.length / step)) + 1
+        at = np.linspace(0, spine.length, count)
+        axis = shapely.get_coordinates(shapely.line_interpolate_point(spine, at))
+        tan = _tangents(axis, np.zeros(count, int))
+        normal = np.stack([-tan[:, 1], tan[:, 0]], axis=1)
+        pts = sample_points(members, step / 4)
+        where = shapely.line_locate_point(spine, shapely.points(pts))
+        b = np.clip(np.rint(where / spine.length * (count - 1)).astype(int), 0, count - 1)
+        offset = ((pts - axis[b]) * normal[b]).sum(axis=1)
+        med = np.zeros(count)
+        order = np.argsort(b, kind="stable")
+        cuts = np.searchsorted(b[order], np.arange(count + 1))
+        for k in range(count):
+            part = offset[order[cuts[k]:cuts[k + 1]]]
+            med[k] = np.median(part) if len(part) else np.nan
+        filled = np.flatnonzero(~np.isnan(med))
+        med = np.interp(np.arange(count), filled, med[filled])
+        if count >= 3:
+            med = np.convolve(np.pad(med, 1, mode="edge"), np.ones(3) / 3, mode="valid")
+        out.append(axis + normal * med[:, None])
+    return out

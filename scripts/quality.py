@@ -41,16 +41,19 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE.parent.parent / "shared" / "data"
-MEASURES = ("doubled", "ink_kept", "coverage", "fidelity_px", "per_in", "per_intended",
-            "f_score", "tight_recall", "too_wide")
+MEASURES = ("whole_lines", "whole_lines_input", "doubled_ref", "chamfer_px", "doubled",
+            "ink_kept", "coverage", "fidelity_px", "per_in", "per_intended", "f_score",
+            "tight_recall", "too_wide")
 #: for each measure, whether higher is better (the worst are the other end)
-HIGHER_IS_BETTER = {"doubled": False, "ink_kept": True, "coverage": True, "fidelity_px": False,
+HIGHER_IS_BETTER = {"whole_lines": True, "whole_lines_input": True, "doubled_ref": False,
+                    "chamfer_px": False, "doubled": False, "ink_kept": True, "coverage": True,
+                    "fidelity_px": False,
                     "per_in": False, "per_intended": False, "f_score": True,
                     "tight_recall": True, "too_wide": False}
 #: the doubled share beyond which a sketch is listed, with its too_wide (the issue's worst)
 WIDE_SHARE = 0.25
 #: the measures whose worst sketches are listed and drawn
-WORST_OF = ("doubled", "ink_kept", "per_in", "tight_recall")
+WORST_OF = ("whole_lines", "doubled_ref", "chamfer_px", "doubled", "ink_kept", "per_in")
 FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
            "strokestrip_inputs/examples/study_inputs/Bee04_SA_cluster.scap",
            "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/trash_bin/view1/"
@@ -67,8 +70,8 @@ def _setup(root: str) -> None:
     assert Path(core.__file__).resolve().parent.parent == Path(root).resolve(), core.__file__
 
 
-def score_one(args: tuple[str, str, str, str | None]) -> tuple[str, dict]:
-    root, data, path, svg_dir = args
+def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:
+    root, data, path, svg_dir, options = args
     _setup(root)
     from bench_simplify import measure
 
@@ -76,7 +79,7 @@ def score_one(args: tuple[str, str, str, str | None]) -> tuple[str, dict]:
 
     sketch = read_sketch(path)
     try:
-        result = simplify(sketch, SimplifyParams())
+        result = simplify(sketch, SimplifyParams(**options))
     except Exception as exc:  # noqa: BLE001 - a failure is a result here
         return path, {"error": f"{type(exc).__name__}: {exc}"}
     if svg_dir:
@@ -185,6 +188,9 @@ def summary(rows: dict[str, dict]) -> str:
                  "with too_wide above it too (doubled/too_wide): " + "; ".join(
                      f"{short_name(k)} {ok[k]['doubled']:.3f}/{ok[k].get('too_wide', np.nan):.3f}"
                      for k in left_doubled))
+    below = [k for k, v in ok.items()
+             if v.get("whole_lines", 1.0) < v.get("whole_lines_input", 0.0) - 1e-9]
+    lines.append(f"whole lines below the rough input's own: {len(below)} of {len(ok)}")
     more = [k for k, v in ok.items() if v["strokes_out"] > v["strokes_in"]]
     lines.append(f"sketches with more strokes out than in: {len(more)}")
     failed = [k for k, v in rows.items() if not k.startswith("_") and "error" in v]
@@ -204,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--svg", help="write each output SVG into this folder")
     ap.add_argument("--data", type=Path, default=DATA,
                     help="folder of sketches to score, laid out as ../shared/data")
+    ap.add_argument("--lines", help="the output stage (SimplifyParams.lines); default the "
+                    "checkout's own")
     ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--pictures", type=Path, help="with --compare: draw the worst here")
     ap.add_argument("--before-root", help="with --pictures: the checkout of BEFORE")
@@ -225,7 +233,9 @@ def main(argv: list[str] | None = None) -> int:
         Path(args.svg).mkdir(parents=True, exist_ok=True)
     root = str(Path(args.root).resolve())
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-        rows = dict(pool.map(score_one, [(root, str(data), f, args.svg) for f in files]))
+        options = {"lines": args.lines} if args.lines else {}
+        rows = dict(pool.map(score_one, [(root, str(data), f, args.svg, options)
+                                         for f in files]))
         far = [str(data / p) for p in FAR_INK if (data / p).exists() and args.only in p]
         far_rows = dict(pool.map(far_ink, [(root, f) for f in far]))
     out = {str(Path(k).relative_to(data)): v for k, v in rows.items()}

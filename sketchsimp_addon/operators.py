@@ -171,6 +171,6 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")
-        for name in ("alpha", "samples", "angle", "beta", "join_angle", "corner_angle",
-                     "smoothing"):
+        for name in ("lines", "alpha", "samples", "angle", "beta", "join_angle",
+                     "corner_angle", "smoothing"):
             box.prop(self, name)

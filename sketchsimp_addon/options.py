@@ -6,7 +6,8 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from ..core import EPSILON_SOFT_MAX, SimplifyParams
 
-__all__ = ["DEFAULTS", "LAYER_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS", "SimplifyOptions"]
+__all__ = ["DEFAULTS", "LAYER_ITEMS", "LINES_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS",
+           "SimplifyOptions"]
 
 DEFAULTS = SimplifyParams()
 
@@ -25,6 +26,12 @@ OUTPUT_ITEMS = [
     ("LAYER", "New Layer", "Write the result to a new layer above each source layer"),
     ("OBJECT", "New Object", "Write the result to a new Grease Pencil object"),
     ("REPLACE", "Replace", "Replace the source strokes in place (undo restores them)"),
+]
+
+LINES_ITEMS = [
+    ("complex", "From the Complex", "Chain the simplified complex's curves into strokes"),
+    ("pen", "From the Pen", "Fit one line to each group of strokes drawn over one line, "
+     "junctions taken from the fitted lines"),
 ]
 
 
@@ -82,8 +89,13 @@ class SimplifyOptions:
                              description="Smooth each output line between its corners over "
                              "this many bundle widths, so that it shows no steps (0: none)")
 
+    lines: EnumProperty(name="Lines", items=LINES_ITEMS, default=DEFAULTS.lines,
+                        description="How the clean lines are made from the simplified "
+                        "drawing")
+
     def params(self) -> SimplifyParams:
         return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha or "auto",
                               samples=self.samples - self.samples % 2, angle=self.angle,
                               beta=self.beta, join_angle=self.join_angle,
-                              corner_angle=self.corner_angle, smoothing=self.smoothing)
+                              corner_angle=self.corner_angle, smoothing=self.smoothing,
+                              lines=self.lines)

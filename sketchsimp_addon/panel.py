@@ -10,8 +10,8 @@ from .options import SimplifyOptions
 __all__ = ["OPTION_NAMES", "SKETCHSIMP_PT_panel", "SketchSimpSettings"]
 
 OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "stable", "fill_regions",
-                "as_curve", "alpha", "samples", "angle", "beta", "join_angle", "corner_angle",
-                "smoothing")
+                "as_curve", "lines", "alpha", "samples", "angle", "beta", "join_angle",
+                "corner_angle", "smoothing")
 
 
 class SketchSimpSettings(SimplifyOptions, bpy.types.PropertyGroup):

@@ -14,7 +14,7 @@ import numpy as np
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
-from core import Sketch, SketchError, Stroke, simplify
+from core import SimplifyParams, Sketch, SketchError, Stroke, simplify
 from core.complex.base_complex import BaseComplex, check_euler
 
 finite = st.floats(-100, 100, allow_nan=False, allow_infinity=False)
@@ -132,12 +132,12 @@ def check_complex(cx: BaseComplex) -> None:
             assert p in cx.curve_patches[c], (p, c)
 
 
-def check(strokes: list[np.ndarray]) -> str:
+def check(strokes: list[np.ndarray], params: SimplifyParams | None = None) -> str:
     """Simplify one sketch: 'simplified' or 'refused' (a SketchError); anything else,
     an exception or a broken invariant, is a failure and raises."""
     try:
         sketch = Sketch([Stroke(s) for s in strokes])
-        result = simplify(sketch)
+        result = simplify(sketch, params)
     except SketchError:
         return "refused"
     check_complex(result.complex)

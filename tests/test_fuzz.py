@@ -26,6 +26,19 @@ def test_fuzz_kind(kind):
     run()
 
 
+@pytest.mark.timeout(600)
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_fuzz_kind_with_the_pen_stage(kind):
+    strategy, share = KINDS[kind]
+
+    @fuzz_settings(max(2, int(EXAMPLES * share) // 3))
+    @given(strategy)
+    def run(strokes):
+        assert check(strokes, SimplifyParams(lines="pen")) in ("simplified", "refused")
+
+    run()
+
+
 def test_fuzz_check_reports_refusals():
     """The checker tells a refused sketch from a simplified one (so counts can mean
     something): NaN-only strokes leave nothing to draw."""

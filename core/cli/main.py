@@ -20,8 +20,9 @@ import sys
 from pathlib import Path
 
 from ..io.files import read_sketch, write_sketch
+from ..lines import PASSES
 from ..parallel import default_jobs
-from ..params import SimplifyParams
+from ..params import LINE_STAGES, SimplifyParams
 from ..simplify import simplify
 from ..sketch import SketchError
 from .batch import batch
@@ -56,6 +57,7 @@ def parser() -> argparse.ArgumentParser:
                           "(default 'auto': the ink's spacing)")
     one.add_argument("--samples", type=int, default=d.samples,
                      help="Fourier descriptor samples N (default %(default)s)")
+    _stage_options(one, d)
     one.add_argument("--stats", help="write counts and timings to this JSON file")
     one.set_defaults(run=run_simplify)
 
@@ -79,11 +81,25 @@ def parser() -> argparse.ArgumentParser:
                       help="how far to simplify (default %(default)s)")
     many.add_argument("--scap", action="store_true", help="write .scap instead of .svg")
     many.add_argument("--summary", type=Path, help="write counts and seconds to this JSON file")
+    _stage_options(many, d)
     many.set_defaults(run=lambda args: batch(
-        args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon), args.jobs,
+        args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon, lines=args.lines,
+                                                  skip=tuple(args.skip)), args.jobs,
         ".scap" if args.scap else ".svg", args.summary, args.scheduler, args.resume,
         args.connect_timeout))
     return top
+
+
+def _stage_options(command: argparse.ArgumentParser, d: SimplifyParams) -> None:
+    """--lines and --skip, for simplify and batch."""
+    command.add_argument("--lines", choices=LINE_STAGES, default=d.lines,
+                         help="the output stage: 'complex' chains the simplified complex's "
+                              "curves, 'pen' fits one line to each group of strokes that "
+                              "draw one line (default %(default)s)")
+    command.add_argument("--skip", action="append", default=[], metavar="PASS",
+                         choices=[name for name, _ in PASSES],
+                         help="leave out this pass of the pen stage (for ablations; "
+                              "repeatable): " + ", ".join(name for name, _ in PASSES))
 
 
 def _auto_or_number(text: str) -> float | str:
@@ -101,7 +117,7 @@ def run_simplify(args: argparse.Namespace) -> int:
     if out.suffix.lower() not in (".svg", ".scap"):
         raise SketchError(f"{out}: unknown output format {out.suffix!r} (use .svg or .scap)")
     params = SimplifyParams(epsilon=args.epsilon, alpha=args.alpha, samples=args.samples,
-                            fill_gap=args.fill_gap)
+                            fill_gap=args.fill_gap, lines=args.lines, skip=tuple(args.skip))
     result = simplify(read_sketch(args.input), params)
     write_sketch(result.to_sketch(), out)
     before, after = result.counts["before"], result.counts["after"]

@@ -60,6 +60,7 @@ class NearestInk:
     def __init__(self, strokes: list[Stroke], unit_points: list[np.ndarray],
                  radius: float = 0.02) -> None:
         self.strokes = strokes
+        self.unit_points = unit_points  #: the strokes' points in the unit frame
         self.radius = radius
         s = [arc_lengths(p) for p in unit_points]
         # one increasing "running arc length" over all strokes, a gap of 1 between them

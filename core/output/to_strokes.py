@@ -129,8 +129,8 @@ from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuil
 __all__ = [
     "DOUBLED_END", "DoubledEnd", "DrawnThrough", "EXACT_JUNCTION", "FittedStroke",
     "THROUGH_DETOUR", "TIP_JOIN", "TRIM_FILLED", "TRIM_NEAR", "close_loops", "continuations",
-    "contract_short_edges", "join_edges", "linework", "renode", "split_at_tips", "to_strokes",
-    "trim_doubled_ends", "trim_spurs",
+    "contract_short_edges", "fit_lines", "join_edges", "linework", "renode", "split_at_tips",
+    "to_strokes", "trim_doubled_ends", "trim_spurs",
 ]
 
 
@@ -761,15 +761,22 @@ def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
         closed.append(stroke.closed)
     if ink is not None and params.epsilon > 0:  # step 9: onto the middle of their ink
         lines = centred_on_ink(lines, closed, ink, PLACE_REACH * d_eps, d_eps / 4)
+    return fit_lines(lines, closed, params, memo)
+
+
+def fit_lines(lines: list[np.ndarray], closed: list[bool], params: SimplifyParams,
+              memo: StrokeMemo | None) -> list[FittedStroke]:
+    """Each line (unit frame, evenly spaced) smoothed between its corners and fitted with
+    piecewise cubic Beziers, all at once; ``params`` resolved. A fit is kept in ``memo``
+    by the line before smoothing (smoothing depends on it and the params alone): a replay
+    smooths and fits only the lines it has not seen."""
+    memo = StrokeMemo() if memo is None else memo
     strokes = [(shape_key(pts, c), pts, c) for pts, c in zip(lines, closed)]
-    # a fit is kept by the line before smoothing (smoothing depends on it and the params
-    # alone): a replay smooths and fits only the lines it has not seen. Step 9 is not kept:
-    # where a line moves depends on the other lines (the ink nearer them is theirs)
     fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
     todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
     if todo:  # fitted together
         made = fit_beziers([_smoothed(pts, closed, params) for _, (pts, closed) in todo],
-                           params.fit_error * d_eps, params.corner_angle,
+                           params.fit_error * params.alpha, params.corner_angle,
                            [closed for _, (_, closed) in todo])
         for (key, _), bezier in zip(todo, made):
             fits[key] = (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT))

@@ -1,0 +1,312 @@
+"""Pass 4 of :mod:`core.lines`: one centreline per group, fitted to all its pieces' ink
+at once, and each group checked by its fit.
+
+The centreline (StrokeStrip's view, simplified: a cluster's strokes parameterize along
+one curve): a *spine* is grown from the group's longest piece, each other piece attached
+where it runs within ``member_reach`` d_eps of it, its parts beyond the spine's ends
+extending it (a piece that leaves one end and comes back to the other closes it: a circle
+drawn as loose arcs). Then, twice, the median of the ink's offsets from the spine is taken
+in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the line off the
+others) and smoothed over ``tuning.smooth`` d_eps: the line runs through the middle of
+the passes, and ends where the ink ends.
+
+The check: a piece of which less than ``tuning.member_share`` lies within
+``member_reach`` d_eps of its group's line does not draw that line, and is split off; the
+pieces split off are grouped again among themselves (the components of pass 3's pairs
+among them) and fitted the same way. A long chain of pairs (a line passing along a ring
+for a while) joins pieces of several lines into one group; the fit takes them apart.
+
+The helpers of passes 5 and 6 live here too (:func:`along_pairs`, :func:`regroup`,
+:func:`absorb_crumbs`): they fit groups again.
+
+Invariant: every piece's ink is stood for by exactly one line (its group's, or its own).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ..arrays.components import component_labels
+from ..arrays.geometry import Segments, tangents
+from ..arrays.polylines import gaussian_kernel, resample_polyline, smoothed_ring
+from .work import Line, Work
+
+__all__ = ["absorb_crumbs", "along_pairs", "centreline", "fit_group", "regroup", "run"]
+
+
+def _project(line_points: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                                      float]:
+    line = shapely.LineString(line_points)
+    geoms = shapely.points(points)
+    return shapely.line_locate_point(line, geoms), shapely.distance(line, geoms), line.length
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of each run of True."""
+    edges = np.diff(np.r_[0, mask.astype(np.int8), 0])
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+
+
+def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
+            ) -> tuple[np.ndarray, bool] | None:
+    """The spine with ``piece`` attached (see the module), and whether it closed; None
+    where the piece does not run along it."""
+    t, d, length = _project(spine, piece)
+    near = d <= reach
+    runs = _runs(near)
+    if not runs:
+        return None
+    a, b = max(runs, key=lambda r: (r[1] - r[0], -r[0]))
+    if b == a:
+        return None
+    if t[b] < t[a]:  # drawn the other way
+        piece, t, near = piece[::-1], t[::-1], near[::-1]
+        a, b = len(piece) - 1 - b, len(piece) - 1 - a
+    closed = False
+    out = spine
+    if b + 1 < len(piece) and t[b] >= length - 2 * reach:
+        back = np.flatnonzero(near[b + 1:])
+        tail = piece[b + 1:b + 1 + back[0]] if len(back) else piece[b + 1:]
+        closed = bool(len(back) and t[b + 1 + back[0]] <= 2 * reach and length > 4 * reach)
+        out = np.concatenate([out, tail])
+    if a > 0 and t[a] <= 2 * reach and not closed:
+        back = np.flatnonzero(near[:a])
+        head = piece[back[-1] + 1:a] if len(back) else piece[:a]
+        closed = bool(len(back) and t[back[-1]] >= length - 2 * reach and length > 4 * reach)
+        out = np.concatenate([head, out])
+    return out, closed
+
+
+def _spine(pieces: list[np.ndarray], reach: float, h: float
+           ) -> tuple[np.ndarray, bool]:
+    order = sorted(range(len(pieces)), key=lambda k: (-len(pieces[k]), k))
+    spine, closed = pieces[order[0]], False
+    pending = order[1:]
+    while pending and not closed:
+        rest = []
+        for k in pending:
+            got = None if closed else _attach(spine, pieces[k], reach)
+            if got is None:
+                rest.append(k)
+                continue
+            spine, closed = got
+            spine = resample_polyline(spine, h) if len(spine) >= 2 else spine
+        if len(rest) == len(pending):
+            break
+        pending = rest
+    if (not closed and len(spine) > 2 and np.hypot(*(spine[0] - spine[-1])) <= reach
+            and np.hypot(*np.diff(spine, axis=0).T).sum() > 4 * reach):
+        closed = True
+    return spine, closed
+
+
+def _smooth_open(values: np.ndarray, sigma: float) -> np.ndarray:
+    half = int(np.ceil(3 * sigma))
+    if sigma <= 0 or half < 1:
+        return values
+    pad = np.pad(values, half, mode="edge")
+    return np.convolve(pad, gaussian_kernel(sigma, half), mode="valid")
+
+
+def _bin_medians(bins: np.ndarray, values: np.ndarray, n: int
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Which of ``n`` bins hold values, and the median of each (0 where none).
+
+    >>> _bin_medians(np.array([0, 0, 0, 2]), np.array([1.0, 9.0, 2.0, 4.0]), 3)
+    (array([ True, False,  True]), array([2., 0., 4.]))
+    """
+    order = np.lexsort((values, bins))
+    bins, values = bins[order], values[order]
+    first = np.searchsorted(bins, np.arange(n), side="left")
+    last = np.searchsorted(bins, np.arange(n), side="right")
+    count = last - first
+    has = count > 0
+    low = first + (count - 1) // 2
+    high = first + count // 2
+    middle = np.zeros(n)
+    middle[has] = 0.5 * (values[low[has]] + values[high[has]])
+    return has, middle
+
+
+def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: float,
+               smooth: float, rounds: int = 2) -> tuple[np.ndarray, bool]:
+    """The line through the middle of ``pieces`` (see the module), evenly spaced by ``h``,
+    and whether it is closed (then its first point is repeated last).
+
+    >>> x = np.linspace(0, 1, 41)[:, None]
+    >>> passes = [np.hstack([x, 0 * x + y]) for y in (-0.01, 0.0, 0.01)]
+    >>> line, closed = centreline(passes, 0.02, 0.025, 0.025, 0.01)
+    >>> closed, bool(np.abs(line[:, 1]).max() < 1e-9), line[[0, -1], 0].round(3).tolist()
+    (False, True, [0.0, 1.0])
+    """
+    spine, closed = _spine(pieces, reach, h)
+    ink = np.concatenate(pieces)
+    for _ in range(rounds):
+        if closed:
+            spine = np.concatenate([spine, spine[:1]]) if not np.array_equal(
+                spine[0], spine[-1]) else spine
+        line = resample_polyline(spine, min(h, bin_length))
+        n = len(line)
+        if n < 3:
+            break
+        tan = tangents(line, closed)
+        normal = np.column_stack([-tan[:, 1], tan[:, 0]])
+        t, d, length = _project(line, ink)
+        use = d <= reach
+        b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
+        offset = ((ink - line[b]) * normal[b]).sum(axis=1)
+        has, middle = _bin_medians(b[use], offset[use], n)
+        if not has.any():
+            break
+        k = np.arange(n)
+        mean = np.interp(k, k[has], middle[has], period=n - 1 if closed else None)
+        sigma = smooth / (length / (n - 1))
+        if closed:
+            mean[-1] = mean[0]
+            mean = smoothed_ring(mean, sigma) if n - 1 > int(np.ceil(3 * sigma)) else mean
+        else:
+            mean = _smooth_open(mean, sigma)
+        spine = line + normal * mean[:, None]
+        if closed:
+            spine[-1] = spine[0]
+            spine = spine[:-1]
+    if closed:
+        spine = np.concatenate([spine, spine[:1]])
+    return resample_polyline(spine, h), closed
+
+
+def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float) -> np.ndarray:
+    """The share of each piece within ``reach`` of ``line``."""
+    geom = shapely.LineString(line)
+    return np.array([float((shapely.distance(geom, shapely.points(p)) <= reach).mean())
+                     for p in pieces])
+
+
+def fit_group(members: list[int], work: Work) -> list[Line]:
+    t = work.tuning
+    reach = t.member_reach * work.d
+    pieces = [work.pieces[k] for k in members]
+    if len(members) == 1:
+        line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
+        return [Line(line, closed, tuple(members))]
+    line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
+    share = _members_along(line, pieces, reach)
+    keep = share >= t.member_share
+    if keep.all() or not keep.any():
+        return [Line(line, closed, tuple(members))]
+    kept = [m for m, ok in zip(members, keep) if ok]
+    out = fit_group(kept, work)
+    return out + [line for rest in _components([m for m, ok in zip(members, keep) if not ok],
+                                                work.pairs)
+                  for line in fit_group(rest, work)]
+
+
+def _components(members: list[int], pairs: np.ndarray | None) -> list[list[int]]:
+    """``members`` split into the connected components of the ``pairs`` among them."""
+    if pairs is None or len(members) < 2:
+        return [[m] for m in members]
+    index = {m: k for k, m in enumerate(members)}
+    inside = np.isin(pairs, members).all(axis=1)
+    local = np.vectorize(index.get, otypes=[np.intp])(pairs[inside]) if inside.any() else \
+        np.zeros((0, 2), dtype=np.intp)
+    labels = component_labels(len(members), local).tolist()
+    out: dict[int, list[int]] = {}
+    for m, label in zip(members, labels):
+        out.setdefault(label, []).append(m)
+    return list(out.values())
+
+
+def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
+    """Pairs (shorter, longer) of lines of which the shorter lies along the longer (see
+    the module)."""
+    if len(lines) < 2:
+        return np.zeros((0, 2), dtype=np.intp)
+    pts = [ln.points for ln in lines]
+    segs = Segments.of(pts)
+    lengths = np.array([ln.length for ln in lines])
+    sizes = np.fromiter(map(len, pts), dtype=np.intp, count=len(pts))
+    which = np.repeat(np.arange(len(lines)), sizes)
+    points = np.concatenate(pts)
+    tan = np.concatenate([tangents(ln.points, ln.closed) for ln in lines])
+    i, seg = segs.tree.query(shapely.points(points), predicate="dwithin", distance=work.d)
+    other = segs.polyline[seg]
+    v = segs.vector[seg]
+    length = np.hypot(v[:, 0], v[:, 1])
+    ok = ((other != which[i]) & (length > 0)
+          & (np.abs((v * tan[i]).sum(axis=1)) >= work.tuning.follow_cos * length)
+          & ((lengths[other] > lengths[which[i]])
+             | ((lengths[other] == lengths[which[i]]) & (other > which[i]))))
+    i, other = i[ok], other[ok]
+    key = np.unique(i.astype(np.int64) * len(lines) + other)  # each sample and line once
+    line_of, partner = which[key // len(lines)], key % len(lines)
+    pair_key = line_of.astype(np.int64) * len(lines) + partner
+    uniq, count = np.unique(pair_key, return_counts=True)
+    share = count / sizes[uniq // len(lines)]
+    good = share >= work.tuning.along_share
+    return np.stack([uniq[good] // len(lines), uniq[good] % len(lines)], axis=1)
+
+
+def absorb_crumbs(lines: list[Line], work: Work, band=None) -> list[Line]:
+    """``lines`` without those lying wholly within ``tuning.absorb_reach`` d_eps of a
+    longer line: shorter than ``tuning.crumb`` d_eps (a hook, a scrap), or, where ``band``
+    (a test of two line indices) allows, of any length (a loose pass the fit split off).
+    Their pieces become that line's members (the one most of their points lie near), its
+    geometry unchanged."""
+    t = work.tuning
+    lengths = np.array([ln.length for ln in lines])
+    if len(lines) < 2:
+        return lines
+    geoms = np.array([shapely.LineString(ln.points) for ln in lines], dtype=object)
+    tree = shapely.STRtree(geoms)
+    owner: dict[int, int] = {}
+    for k in sorted(range(len(lines)), key=lambda k: (lengths[k], k)):
+        crumb = lengths[k] < t.crumb * work.d
+        if not crumb and band is None:
+            continue
+        pts = shapely.points(lines[k].points)
+        i, j = tree.query(pts, predicate="dwithin", distance=t.absorb_reach * work.d)
+        keep = (lengths[j] > lengths[k]) & (j != k)
+        i, j = i[keep], j[keep]
+        others, count = np.unique(j, return_counts=True)
+        # the absorbing line: near every point, most points first; never one absorbed
+        for o in others[np.argsort(-count, kind="stable")].tolist():
+            near_all = len(np.unique(i[j == o])) == len(pts)
+            if o in owner or not (near_all or (crumb and len(np.unique(i)) == len(pts))):
+                continue
+            if crumb or band(k, o):
+                owner[k] = o
+            break
+    if not owner:
+        return lines
+    extra: dict[int, list[int]] = {}
+    for k, o in owner.items():
+        while o in owner:  # absorbed into a line absorbed in turn
+            o = owner[o]
+        extra.setdefault(o, []).extend(lines[k].members)
+    return [Line(ln.points, ln.closed, tuple(sorted(ln.members + tuple(extra.get(k, ())))),
+                 ln.meets) for k, ln in enumerate(lines) if k not in owner]
+
+
+def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
+    """``lines`` with each connected set of ``pairs`` fitted again as one group."""
+    if not len(pairs):
+        return lines
+    joined = component_labels(len(lines), pairs).tolist()
+    merged: dict[int, list[Line]] = {}
+    for line, label in zip(lines, joined):
+        merged.setdefault(label, []).append(line)
+    out = []
+    for same in merged.values():
+        out += same if len(same) == 1 else fit_group(
+            sorted(m for ln in same for m in ln.members), work)
+    return out
+
+
+def run(work: Work) -> Work:
+    labels = work.labels if work.labels is not None else np.arange(len(work.pieces))
+    groups: dict[int, list[int]] = {}
+    for k, label in enumerate(labels.tolist()):
+        groups.setdefault(label, []).append(k)
+    return work.with_(lines=[line for members in groups.values()
+                             for line in fit_group(members, work)])

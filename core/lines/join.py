@@ -1,0 +1,116 @@
+"""Pass 5 of :mod:`core.lines`: two lines that fit one curve are joined, by the paper's own
+test. The agglomeration judged the complex's pieces, cut at every crossing; a pass along
+part of a long line pairs with the short piece it lies beside, and merged into that piece
+it changes its shape by more than epsilon, where merged into the whole line it barely
+changes it. So whole fitted lines are judged again as the merge loop judges two free
+curves (3.2.2): paired side by side, overlapping, or end to end across a gap under d_eps
+(:func:`core.merge.curve_merge.pair_and_merge_many`), and joined where the merged
+curve's Fourier descriptor distance to either line is below epsilon, or where one
+carries on from the other (overlapping at an end, or end to end): the Fourier distance
+sees a longer arc as a change of shape, and five arcs of a circle never joined; and, as pass 4's
+groups are, where the shorter lies along the longer (within d_eps, running along it) over
+``tuning.along_share`` of its length (:func:`core.lines.fit.along_pairs`: a loose pass
+the Fourier distance sees as a change of shape). Either way, only where the two inks
+leave no band free of ink wider than ``params.fill_gap`` between them
+(:func:`one_band`): the residual width of the joint line is small against the distance
+between the two, or they are two lines drawn close. Joined lines are
+fitted again as one group from all their ink (pass 4's check splits off again a piece
+that does not lie along the joint line), for up to ``ROUNDS`` rounds. Not at epsilon 0.
+
+Invariant: every pair is judged on the lines alone, all pairs of a round at once: the
+result does not depend on any order of judging.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
+from ..merge.fourier import curve_descriptors, fd_distance
+from .fit import along_pairs, regroup
+from .work import Line, Work
+
+__all__ = ["ROUNDS", "half_widths", "joined_pairs", "one_band", "run"]
+
+#: joined lines may pair again with their neighbours: rounds of judging at most
+ROUNDS = 2
+
+
+def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
+    """Pairs of lines (indices, smaller first) that the curve-curve merge joins at
+    ``work.params.epsilon`` (see the module)."""
+    if len(lines) < 2:
+        return np.zeros((0, 2), dtype=np.intp)
+    d, params = work.d, work.params
+    geoms = np.array([shapely.LineString(ln.points) for ln in lines], dtype=object)
+    a, b = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=d)
+    keep = a < b
+    a, b = a[keep], b[keep]
+    if not len(a):
+        return np.zeros((0, 2), dtype=np.intp)
+    curves = SampledCurve.many([ln.points for ln in lines], sample_spacing(d))
+    weight = [float(len(ln.members)) for ln in lines]
+    found = pair_and_merge_many([(curves[i], weight[i], curves[j], weight[j])
+                                 for i, j in zip(a.tolist(), b.tolist())], d, params.angle)
+    # carried on from one another (overlapping at an end, or end to end across a gap
+    # under d_eps): one motion of the line drawn on, whatever the change of shape
+    drawn_on = [k for k, (how, m) in enumerate(found) if m is not None and how != "side"]
+    paired = [k for k, (how, m) in enumerate(found) if m is not None and how == "side"]
+    if not paired:
+        return np.stack([a[drawn_on], b[drawn_on]], axis=1).astype(np.intp)
+    used = np.unique(np.concatenate([a[paired], b[paired]]))
+    fds = curve_descriptors([found[k][1] for k in paired] + [lines[k].points for k in used],
+                            params.samples)
+    merged, own = fds[:len(paired)], fds[len(paired):]
+    row = {int(k): r for r, k in enumerate(used.tolist())}
+    cost = np.array([min(float(fd_distance(own[row[int(a[k])]], m)),
+                         float(fd_distance(own[row[int(b[k])]], m)))
+                     for k, m in zip(paired, merged)])
+    ok = np.sort(np.concatenate([np.asarray(paired)[cost < params.epsilon],
+                                 np.asarray(drawn_on, dtype=np.intp)])).astype(np.intp)
+    return np.stack([a[ok], b[ok]], axis=1).astype(np.intp)
+
+
+def half_widths(lines: list[Line], work: Work) -> np.ndarray:
+    """How far each line's own ink spreads from it: the 90th percentile of its pieces'
+    distances to it (0 for a single clean pass)."""
+    out = np.zeros(len(lines))
+    for k, ln in enumerate(lines):
+        ink = np.concatenate([work.pieces[m] for m in ln.members])
+        dist = shapely.distance(shapely.LineString(ln.points), shapely.points(ink))
+        out[k] = float(np.percentile(dist, 90))
+    return out
+
+
+def one_band(lines: list[Line], pairs: np.ndarray, work: Work) -> np.ndarray:
+    """The pairs whose inks leave no band free of ink wider than ``params.fill_gap`` (the
+    drawing's own spacing of passes within a bundle) between them: the gap between the
+    lines (the median distance from the shorter's points beside the longer to it) less
+    the half-widths of both inks. Two tight bundles drawn close keep a clear band; the
+    passes of one loose line fill it."""
+    if not len(pairs):
+        return pairs
+    width = half_widths(lines, work)
+    keep = np.zeros(len(pairs), bool)
+    for k, (a, b) in enumerate(pairs.tolist()):
+        short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)
+        dist = shapely.distance(shapely.LineString(lines[long_].points),
+                                shapely.points(lines[short].points))
+        beside = dist[dist <= work.d]
+        gap = float(np.median(beside)) if len(beside) else float(dist.min())
+        keep[k] = gap - width[a] - width[b] <= work.params.fill_gap
+    return pairs[keep]
+
+
+def run(work: Work) -> Work:
+    lines = work.current_lines()
+    if not work.merged:
+        return work.with_(lines=lines)
+    for _ in range(ROUNDS):
+        pairs = one_band(lines, np.concatenate([joined_pairs(lines, work),
+                                                along_pairs(lines, work)]), work)
+        if not len(pairs):
+            break
+        lines = regroup(lines, pairs, work)
+    return work.with_(lines=lines)

@@ -1,0 +1,104 @@
+"""Pass 1 of :mod:`core.lines`: the pen strokes. Each input stroke is resampled every
+``h`` (a quarter of d_eps) and cut where it turns more than ``tuning.cut_angle`` within
+``tuning.cut_reach`` d_eps each side: a corner drawn in one motion is two lines, which may
+belong to two different groups; and where it comes back along its own earlier ink (a
+ring drawn round several times, a line drawn back over itself), each turn a piece.
+Invariant: the pieces of a stroke, in order, are the
+whole stroke (each cut point ends one piece and starts the next)."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ..arrays.geometry import Segments, tangents
+from ..arrays.polylines import arc_lengths, resample_polyline
+from ..output.bezier import corner_indices
+from .work import Work
+
+__all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
+
+
+def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: float
+                   ) -> list[np.ndarray]:
+    """A polyline resampled every ``spacing`` and cut where it turns more than ``angle``
+    degrees within ``reach`` each side.
+
+    >>> corner = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    >>> [p[[0, -1]].tolist() for p in cut_at_corners(corner, 0.25, 70, 0.3)]
+    [[[0.0, 0.0], [1.0, 0.0]], [[1.0, 0.0], [1.0, 1.0]]]
+    """
+    pts = resample_polyline(points, spacing)
+    cuts = corner_indices(pts, angle, reach)
+    bounds = [0, *cuts, len(pts) - 1]
+    return [pts[a:b + 1] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+
+
+def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float
+                         ) -> list[np.ndarray]:
+    """An evenly spaced polyline cut where it comes back within ``reach`` of its own
+    earlier ink (farther back along it than four times that), running along it (|cos| at
+    least ``along_cos``, either way): a ring drawn round several times, a line drawn back
+    over itself. Each turn is a piece, which pass 3 groups with the others.
+
+    >>> t = np.linspace(0, 4 * np.pi, 200)  # round twice
+    >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)
+    >>> [len(p) for p in cut_where_it_returns(ring, 0.2, 0.9)]  # turns, and the overlap
+    [98, 98, 6]
+    """
+    out = []
+    while len(points) >= 4:
+        k = _first_return(points, reach, along_cos)
+        if k is None:
+            break
+        out.append(points[:k + 1])
+        points = points[k:]
+    if len(points) >= 2:
+        if out and arc_lengths(points)[-1] <= reach:  # a crumb: the last turn's end
+            out[-1] = np.concatenate([out[-1], points[1:]])
+        else:
+            out.append(points)
+    return out
+
+
+#: points asked about at once (a stroke shaking over itself has many ink pairs near each)
+CHUNK = 1024
+
+
+def _first_return(points: np.ndarray, reach: float, along_cos: float) -> int | None:
+    """The first point that comes back along the polyline's earlier ink (see
+    :func:`cut_where_it_returns`), asked about a chunk at a time, or None."""
+    s = arc_lengths(points)
+    if s[-1] <= 4 * reach:
+        return None
+    segs = Segments.of([points])
+    tan = tangents(points)
+    for start in range(0, len(points), CHUNK):
+        rows = np.arange(start, min(start + CHUNK, len(points)))
+        i, seg = segs.tree.query(shapely.points(points[rows]), predicate="dwithin",
+                                 distance=reach)
+        i = rows[i]
+        v = segs.vector[seg]
+        length = np.hypot(v[:, 0], v[:, 1])
+        back = ((s[i] - s[seg + 1] > 4 * reach) & (length > 0)
+                & (np.abs((v * tan[i]).sum(axis=1)) >= along_cos * length))
+        if back.any():
+            return int(i[back].min())
+    return None
+
+
+def run(work: Work) -> Work:
+    pieces, owner, index = [], [], []
+    for k, stroke in enumerate(work.strokes):
+        if len(stroke) < 2 or arc_lengths(stroke)[-1] <= 0:
+            continue
+        cut = [turn for leg in cut_at_corners(stroke, work.h, work.tuning.cut_angle,
+                                              work.tuning.cut_reach * work.d)
+               for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
+                                                work.tuning.follow_cos)]
+        for j, piece in enumerate(cut):
+            pieces.append(piece)
+            owner.append(k)
+            index.append(j)
+    return work.with_(pieces=pieces, piece_stroke=np.asarray(owner, dtype=np.intp),
+                      piece_index=np.asarray(index, dtype=np.intp))

@@ -1,0 +1,162 @@
+"""The pen stage (core.lines): lines drawn from the pen's strokes. Known answers on rough
+drawings made here (the issue's), the replay, epsilon 0, and the passes' loop."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from helpers import SAMPLES
+
+from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
+from core.lines import PASSES, lines_from_pen
+from core.sketch import SketchError
+
+CANVAS = 500.0
+DIAGONAL = float(np.hypot(CANVAS, CANVAS))
+
+
+def passes(a, b, n: int = 3, spread: float = 1.5, seed: int = 0, over: float = 0.0
+           ) -> list[np.ndarray]:
+    """``n`` rough passes along the segment a-b: each moved sideways by up to ``spread``,
+    shaking by 0.2, and run on past both ends by up to ``over``."""
+    rng = np.random.default_rng(seed)
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    u = (b - a) / np.linalg.norm(b - a)
+    normal = np.array([-u[1], u[0]])
+    out = []
+    for _ in range(n):
+        t = np.linspace(-over * rng.uniform(0.3, 1), np.linalg.norm(b - a)
+                        + over * rng.uniform(0.3, 1), 60)
+        out.append(a + np.outer(t, u) + rng.uniform(-spread, spread) * normal
+                   + rng.normal(0, 0.2, (60, 2)))
+    return out
+
+
+def pen(strokes: list[np.ndarray], **params) -> list[Stroke]:
+    sketch = Sketch([Stroke(p) for p in strokes], CANVAS, CANVAS)
+    return simplify(sketch, SimplifyParams(lines="pen", **params)).strokes
+
+
+def straightness(points: np.ndarray) -> float:
+    """Chord over length: 1 for a straight line."""
+    return float(np.hypot(*(points[-1] - points[0]))
+                 / np.hypot(*np.diff(points, axis=0).T).sum())
+
+
+def test_an_x_of_two_bundles_of_three_passes_gives_two_straight_strokes():
+    out = pen(passes([100, 100], [400, 400], seed=1) + passes([100, 400], [400, 100], seed=2))
+    assert len(out) == 2
+    assert min(straightness(s.points) for s in out) > 0.999
+
+
+def test_a_box_drawn_with_overshooting_passes_gives_four_lines_meeting_at_its_corners():
+    sides = [([100, 100], [400, 100]), ([400, 100], [400, 400]), ([400, 400], [100, 400]),
+             ([100, 400], [100, 100])]
+    out = pen([p for k, (a, b) in enumerate(sides) for p in passes(a, b, seed=10 + k,
+                                                                   over=8)])
+    assert len(out) == 4
+    ends = np.concatenate([s.points[[0, -1]] for s in out])
+    corners = np.array([[100, 100], [400, 100], [400, 400], [100, 400]], float)
+    for corner in corners:  # each corner: two ends, exactly one point, no overshoot
+        near = ends[np.hypot(*(ends - corner).T) < 0.02 * DIAGONAL]
+        assert len(near) == 2, corner
+        assert np.hypot(*(near[0] - near[1])) < 1e-6 * DIAGONAL
+    for s in out:  # nothing runs on past a corner
+        assert shapely.Polygon(corners).buffer(0.002 * DIAGONAL).covers(
+            shapely.LineString(s.points))
+
+
+def test_a_circle_drawn_as_five_loose_overlapping_arcs_gives_one_closed_stroke():
+    rng = np.random.default_rng(5)
+    arcs = []
+    for k in range(5):
+        t = np.linspace(0, 2 * np.pi / 5 + 0.6, 60) + k * 2 * np.pi / 5 - 0.3
+        r = 150 + rng.uniform(-2, 2)
+        arcs.append(np.stack([250 + r * np.cos(t), 250 + r * np.sin(t)], axis=1))
+    out = pen(arcs)
+    assert len(out) == 1 and out[0].closed
+    radius = np.hypot(*(out[0].points - 250).T)
+    assert np.abs(radius - 150).max() < 0.005 * DIAGONAL
+
+
+def test_two_tight_bundles_one_percent_of_the_diagonal_apart_stay_two_lines_in_place():
+    gap = 0.01 * DIAGONAL
+    out = pen(passes([100, 200], [400, 200], spread=0.5, seed=3)
+              + passes([100, 200 + gap], [400, 200 + gap], spread=0.5, seed=4))
+    assert len(out) == 2
+    heights = sorted(float(np.median(s.points[:, 1])) for s in out)
+    np.testing.assert_allclose(heights, [200, 200 + gap], atol=0.1 * gap)
+
+
+def test_a_t_gives_a_stem_ending_exactly_on_its_bar():
+    out = pen(passes([100, 200], [400, 200], seed=6) + passes([250, 204], [250, 400], seed=7))
+    assert len(out) == 2
+    bar, stem = sorted(out, key=lambda s: -np.ptp(s.points[:, 0]))
+    top = stem.points[np.argmin(stem.points[:, 1])]
+    assert shapely.distance(shapely.Point(top), shapely.LineString(bar.points)) < 1e-6 * DIAGONAL
+
+
+def test_without_the_junctions_pass_the_t_keeps_its_gap():
+    # the pass is what closes it: skipping it (an ablation) leaves the ends as fitted
+    out = pen(passes([100, 200], [400, 200], seed=6) + passes([250, 204], [250, 400], seed=7),
+              skip=("junctions",))
+    bar, stem = sorted(out, key=lambda s: -np.ptp(s.points[:, 0]))
+    top = stem.points[np.argmin(stem.points[:, 1])]
+    assert shapely.distance(shapely.Point(top), shapely.LineString(bar.points)) > 1.0
+
+
+def test_a_loop_drawn_in_one_motion_over_its_own_crossing_stays_one_stroke():
+    # a cursive "l": up, round and down across itself, in one motion
+    t = np.linspace(0, 1, 200)
+    x = 100 + 300 * t - 60 * np.sin(2 * np.pi * t)
+    y = 300 - 180 * np.sin(np.pi * t)
+    out = pen([np.stack([x, y], axis=1)])
+    assert len(out) == 1
+
+
+def test_at_epsilon_zero_each_stroke_comes_back_whole():
+    sketch = read_sketch(SAMPLES / "house.scap")
+    out = simplify(sketch, SimplifyParams(lines="pen", epsilon=0.0)).strokes
+    assert len(out) == len(sketch.strokes)
+
+
+@pytest.mark.parametrize("sample", ["house", "fish"])
+def test_a_replay_of_the_pen_stage_equals_a_fresh_run(sample):
+    sketch = read_sketch(SAMPLES / f"{sample}.scap")
+    full = simplify(sketch, SimplifyParams(lines="pen", epsilon=0.05))
+    for eps in (0.005, 0.015):
+        replayed = full.at(eps)
+        fresh = simplify(sketch, SimplifyParams(lines="pen", epsilon=eps))
+        assert len(replayed.strokes) == len(fresh.strokes)
+        for x, y in zip(replayed.strokes, fresh.strokes):
+            np.testing.assert_array_equal(x.bezier, y.bezier)
+
+
+def test_every_pass_is_timed_and_drawn_and_an_unknown_one_is_refused():
+    sketch = read_sketch(SAMPLES / "house.scap")
+    result = simplify(sketch, SimplifyParams(lines="pen"))
+    assert {f"pen.{name}" for name, _ in PASSES} <= set(result.timings)
+    seen = []
+    lines_from_pen(result.state, result.params.resolved(), result._ink.unit_points,
+                   picture=lambda name, work: seen.append((name, len(work.current_lines()))))
+    assert [name for name, _ in seen] == [name for name, _ in PASSES]
+    with pytest.raises(SketchError, match="unknown pass"):
+        simplify(sketch, SimplifyParams(lines="pen", skip=("nonsense",)))
+    with pytest.raises(SketchError, match="cannot be skipped"):
+        simplify(sketch, SimplifyParams(lines="pen", skip=("pieces",)))
+    with pytest.raises(SketchError, match="lines must be"):
+        SimplifyParams(lines="chains")
+
+
+def test_params_with_the_pen_stage_travel_as_plain_data_and_come_back_equal():
+    # a batch sends params to a cluster's workers as a dict, or as JSON
+    import json
+
+    from core.params import Tuning
+
+    params = SimplifyParams(lines="pen", skip=("junctions",), tuning=Tuning(snap=0.5))
+    assert SimplifyParams(**params.as_dict()) == params
+    assert SimplifyParams(**json.loads(json.dumps(params.as_dict()))) == params
+    with pytest.raises(SketchError, match="unknown tuning"):
+        SimplifyParams(tuning={"snapp": 1.0})
