@@ -247,12 +247,10 @@ def whole_lines(output: list[np.ndarray], reference: list[np.ndarray], diagonal:
     i, k = shapely.STRtree(lines).query(shapely.points(points), predicate="dwithin",
                                         distance=tol_share * diagonal)
     n_out = len(lines)
-    pair = np.unique(which[i] * n_out + k)  # (curve, output stroke) per sample, once each
-    per_sample = np.unique(i * n_out + k)
+    per_sample = np.unique(i * n_out + k)  # each (sample, output stroke) once
     counts = np.bincount(which[per_sample // n_out] * n_out + per_sample % n_out,
-                         minlength=len(reference) * n_out) if len(pair) else np.zeros(1)
-    best = counts.reshape(len(reference), n_out).max(axis=1) if len(pair) else np.zeros(
-        len(reference))
+                         minlength=len(reference) * n_out)
+    best = counts.reshape(len(reference), n_out).max(axis=1)
     total = np.bincount(which, minlength=len(reference))
     curves = total > 0
     return float((best[curves] >= share * total[curves]).mean())

@@ -170,6 +170,25 @@ class Segments:
                       out=np.zeros(len(squared)), where=squared > 0)
         return np.clip(u, 0.0, 1.0) * np.sqrt(squared)
 
+    def running_along(self, points: np.ndarray, tangent: np.ndarray, reach: float,
+                      along_cos: float) -> tuple[np.ndarray, np.ndarray]:
+        """The segments within ``reach`` of each of ``points`` that run along its
+        ``tangent`` (|cos| at least ``along_cos``, either way; a segment of no length
+        never does), as rows (point index, segment index).
+
+        >>> segs = Segments.of([np.array([[0.0, 0.1], [1.0, 0.1]]),
+        ...                     np.array([[0.5, -1.0], [0.5, 1.0]])])  # along, and across
+        >>> i, seg = segs.running_along(np.array([[0.5, 0.0]]), np.array([[1.0, 0.0]]),
+        ...                             0.2, 0.9)
+        >>> i.tolist(), seg.tolist()
+        ([0], [0])
+        """
+        i, seg = self.tree.query(shapely.points(points), predicate="dwithin", distance=reach)
+        v = self.vector[seg]
+        length = np.hypot(v[:, 0], v[:, 1])
+        keep = (length > 0) & (np.abs((v * tangent[i]).sum(axis=1)) >= along_cos * length)
+        return i[keep], seg[keep]
+
     def crossings(self, points: np.ndarray, tangent: np.ndarray, reach: float,
                   along_cos: float) -> Crossings:
         """Where the segments running along ``tangent`` (|cos| at least ``along_cos``)

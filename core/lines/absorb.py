@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fit import absorb_crumbs
-from .join import one_band
+from .fit import absorb_lines
+from .join import half_widths, one_band
 from .work import Work
 
 __all__ = ["run"]
@@ -21,7 +21,9 @@ def run(work: Work) -> Work:
     lines = work.current_lines()
     if not work.merged:
         return work.with_(lines=lines)
-    def band(k: int, o: int) -> bool:
-        return len(one_band(lines, np.array([[k, o]]), work)) == 1
+    width = half_widths(lines, work)  # once: asked about pair by pair
 
-    return work.with_(lines=absorb_crumbs(lines, work, band))
+    def band(k: int, o: int) -> bool:
+        return len(one_band(lines, np.array([[k, o]]), work, width)) == 1
+
+    return work.with_(lines=absorb_lines(lines, work, band))

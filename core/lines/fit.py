@@ -17,7 +17,7 @@ among them) and fitted the same way. A long chain of pairs (a line passing along
 for a while) joins pieces of several lines into one group; the fit takes them apart.
 
 The helpers of passes 5 and 6 live here too (:func:`along_pairs`, :func:`regroup`,
-:func:`absorb_crumbs`): they fit groups again.
+:func:`absorb_lines`): they fit groups again.
 
 Invariant: every piece's ink is stood for by exactly one line (its group's, or its own).
 """
@@ -32,7 +32,7 @@ from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import gaussian_kernel, resample_polyline, smoothed_ring
 from .work import Line, Work
 
-__all__ = ["absorb_crumbs", "along_pairs", "centreline", "fit_group", "regroup", "run"]
+__all__ = ["absorb_lines", "along_pairs", "centreline", "fit_group", "regroup", "run"]
 
 
 def _project(line_points: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray,
@@ -178,19 +178,19 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
 
 def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float) -> np.ndarray:
     """The share of each piece within ``reach`` of ``line``."""
-    geom = shapely.LineString(line)
-    return np.array([float((shapely.distance(geom, shapely.points(p)) <= reach).mean())
-                     for p in pieces])
+    sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
+    near = shapely.distance(shapely.LineString(line),
+                            shapely.points(np.concatenate(pieces))) <= reach
+    return np.add.reduceat(near.astype(np.intp), np.cumsum(sizes) - sizes) / sizes
 
 
 def fit_group(members: list[int], work: Work) -> list[Line]:
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
-    if len(members) == 1:
-        line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
-        return [Line(line, closed, tuple(members))]
     line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
+    if len(members) == 1:
+        return [Line(line, closed, tuple(members))]
     share = _members_along(line, pieces, reach)
     keep = share >= t.member_share
     if keep.all() or not keep.any():
@@ -229,12 +229,9 @@ def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
     which = np.repeat(np.arange(len(lines)), sizes)
     points = np.concatenate(pts)
     tan = np.concatenate([tangents(ln.points, ln.closed) for ln in lines])
-    i, seg = segs.tree.query(shapely.points(points), predicate="dwithin", distance=work.d)
+    i, seg = segs.running_along(points, tan, work.d, work.tuning.follow_cos)
     other = segs.polyline[seg]
-    v = segs.vector[seg]
-    length = np.hypot(v[:, 0], v[:, 1])
-    ok = ((other != which[i]) & (length > 0)
-          & (np.abs((v * tan[i]).sum(axis=1)) >= work.tuning.follow_cos * length)
+    ok = ((other != which[i])
           & ((lengths[other] > lengths[which[i]])
              | ((lengths[other] == lengths[which[i]]) & (other > which[i]))))
     i, other = i[ok], other[ok]
@@ -247,7 +244,7 @@ def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
     return np.stack([uniq[good] // len(lines), uniq[good] % len(lines)], axis=1)
 
 
-def absorb_crumbs(lines: list[Line], work: Work, band=None) -> list[Line]:
+def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
     """``lines`` without those lying wholly within ``tuning.absorb_reach`` d_eps of a
     longer line: shorter than ``tuning.crumb`` d_eps (a hook, a scrap), or, where ``band``
     (a test of two line indices) allows, of any length (a loose pass the fit split off).

@@ -13,7 +13,6 @@ made one come to follow the same alive curve, and pieces left apart keep their o
 from __future__ import annotations
 
 import numpy as np
-import shapely
 
 from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import arc_lengths
@@ -36,13 +35,10 @@ def run(work: Work) -> Work:
     running = np.concatenate([arc_lengths(p) for p in polylines])
     points = np.concatenate(work.pieces)
     tan = np.concatenate([tangents(p) for p in work.pieces])
-    i, seg = segs.tree.query(shapely.points(points), predicate="dwithin",
-                             distance=work.tuning.follow_reach * work.d)
+    i, seg = segs.running_along(points, tan, work.tuning.follow_reach * work.d,
+                                work.tuning.follow_cos)
     v = segs.vector[seg]
     length = np.hypot(v[:, 0], v[:, 1])
-    along = np.abs((v * tan[i]).sum(axis=1)) >= work.tuning.follow_cos * length
-    keep = along & (length > 0)
-    i, seg, length = i[keep], seg[keep], length[keep]
     u = segs.along(seg, points[i])
     foot = segs.origin[seg] + segs.vector[seg] * (u / length)[:, None]
     dist = np.hypot(*(points[i] - foot).T)

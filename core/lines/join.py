@@ -83,15 +83,17 @@ def half_widths(lines: list[Line], work: Work) -> np.ndarray:
     return out
 
 
-def one_band(lines: list[Line], pairs: np.ndarray, work: Work) -> np.ndarray:
+def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
+             width: np.ndarray | None = None) -> np.ndarray:
     """The pairs whose inks leave no band free of ink wider than ``params.fill_gap`` (the
     drawing's own spacing of passes within a bundle) between them: the gap between the
     lines (the median distance from the shorter's points beside the longer to it) less
     the half-widths of both inks. Two tight bundles drawn close keep a clear band; the
-    passes of one loose line fill it."""
+    passes of one loose line fill it. ``width``: the lines' :func:`half_widths`, where a
+    caller asks about many pairs of the same lines."""
     if not len(pairs):
         return pairs
-    width = half_widths(lines, work)
+    width = half_widths(lines, work) if width is None else width
     keep = np.zeros(len(pairs), bool)
     for k, (a, b) in enumerate(pairs.tolist()):
         short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)

@@ -9,7 +9,6 @@ whole stroke (each cut point ends one piece and starts the next)."""
 from __future__ import annotations
 
 import numpy as np
-import shapely
 
 from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import arc_lengths, resample_polyline
@@ -75,13 +74,9 @@ def _first_return(points: np.ndarray, reach: float, along_cos: float) -> int | N
     tan = tangents(points)
     for start in range(0, len(points), CHUNK):
         rows = np.arange(start, min(start + CHUNK, len(points)))
-        i, seg = segs.tree.query(shapely.points(points[rows]), predicate="dwithin",
-                                 distance=reach)
+        i, seg = segs.running_along(points[rows], tan[rows], reach, along_cos)
         i = rows[i]
-        v = segs.vector[seg]
-        length = np.hypot(v[:, 0], v[:, 1])
-        back = ((s[i] - s[seg + 1] > 4 * reach) & (length > 0)
-                & (np.abs((v * tan[i]).sum(axis=1)) >= along_cos * length))
+        back = s[i] - s[seg + 1] > 4 * reach
         if back.any():
             return int(i[back].min())
     return None
