@@ -97,6 +97,13 @@ class Tuning:
                     at a junction): its pieces join that line's group; so is a longer
                     one where no clear band lies between their inks (a loose pass)
     absorb_reach    see crumb; 0.75: within the bundle width, with a margin
+    band_ratio      a band free of ink between two inks parts two lines where it is wider
+                    than the drawing's usual spacing of passes (fill_gap), or than this
+                    times the wider of the inks beside it (two tight bundles drawn close:
+                    the width is local, from the ink) ...
+    band_floor      ... and at least this wide (half the bundle width: two lines closer
+                    than that, fitted as one between them, each lie within a quarter of
+                    d_eps of it; loose passes drawn a little apart stay one line)
     """
 
     cut_angle: float = 70.0
@@ -115,6 +122,8 @@ class Tuning:
     overshoot: float = 2.0
     crumb: float = 3.0
     absorb_reach: float = 0.75
+    band_ratio: float = 1.0
+    band_floor: float = 0.5
 
 
 #: the top of epsilon's useful range (the add-on's slider ends here; beyond it drawings

@@ -89,6 +89,30 @@ def test_two_tight_bundles_one_percent_of_the_diagonal_apart_stay_two_lines_in_p
     np.testing.assert_allclose(heights, [200, 200 + gap], atol=0.1 * gap)
 
 
+def test_three_single_strokes_drawn_side_by_side_close_stay_three_lines_in_place():
+    """A drawer's handle: three strokes 0.8% of the diagonal apart, under the bundle width
+    d_eps, a clear band between each two all along: three lines, not one between them."""
+    gap = 0.008 * DIAGONAL
+    ys = [200, 200 + gap, 200 + 2 * gap]
+    frame = passes([50, 50], [450, 50], seed=1) + passes([50, 450], [450, 450], seed=2)
+    out = pen(frame + [p for k, y in enumerate(ys)
+                       for p in passes([150, y], [350, y], n=1, spread=0, seed=20 + k)])
+    out = [s for s in out if 100 < np.median(s.points[:, 1]) < 400]  # not the frame's
+    assert len(out) == 3
+    heights = sorted(float(np.median(s.points[:, 1])) for s in out)
+    np.testing.assert_allclose(heights, ys, atol=0.2 * gap)
+
+
+def test_two_loose_passes_that_cross_along_a_line_stay_one_line():
+    """The same strokes' distance apart, but the passes swap sides halfway: no band runs
+    all along them, so they are one line drawn twice."""
+    x = np.linspace(150, 350, 80)
+    swing = 0.004 * DIAGONAL * np.cos(np.pi * (x - 150) / 200)
+    frame = passes([50, 50], [450, 50], seed=1) + passes([50, 450], [450, 450], seed=2)
+    out = pen(frame + [np.stack([x, 200 + swing], axis=1), np.stack([x, 200 - swing], axis=1)])
+    assert len([s for s in out if 100 < np.median(s.points[:, 1]) < 400]) == 1
+
+
 def test_a_t_gives_a_stem_ending_exactly_on_its_bar():
     out = pen(passes([100, 200], [400, 200], seed=6) + passes([250, 204], [250, 400], seed=7))
     assert len(out) == 2

@@ -10,7 +10,11 @@ in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the line 
 others) and smoothed over ``tuning.smooth`` d_eps: the line runs through the middle of
 the passes, and ends where the ink ends.
 
-The check: a piece of which less than ``tuning.member_share`` lies within
+The checks. First, a group whose passes leave a band free of ink all along them that
+:func:`clear_band` says parts two lines (wider than the drawing's usual spacing of passes,
+or than the inks beside it: two tight bundles, or single strokes, drawn close) is split
+there (:func:`band_split`), each side fitted on its own: the width is local, from the
+group's own ink. Then, a piece of which less than ``tuning.member_share`` lies within
 ``member_reach`` d_eps of its group's line does not draw that line, and is split off; the
 pieces split off are grouped again among themselves (the components of pass 3's pairs
 among them) and fitted the same way. A long chain of pairs (a line passing along a ring
@@ -29,10 +33,11 @@ import shapely
 
 from ..arrays.components import component_labels
 from ..arrays.geometry import Segments, tangents
-from ..arrays.polylines import gaussian_kernel, resample_polyline, smoothed_ring
+from ..arrays.polylines import arc_lengths, gaussian_kernel, resample_polyline, smoothed_ring
 from .work import Line, Work
 
-__all__ = ["absorb_lines", "along_pairs", "centreline", "fit_group", "regroup", "run"]
+__all__ = ["absorb_lines", "along_pairs", "band_split", "centreline", "clear_band",
+           "fit_group", "regroup", "run"]
 
 
 def _project(line_points: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray,
@@ -184,10 +189,111 @@ def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float) -> 
     return np.add.reduceat(near.astype(np.intp), np.cumsum(sizes) - sizes) / sizes
 
 
+def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which ``points`` lie beside the evenly spaced open ``line`` (within ``reach``, not
+    beyond its ends), how far along it, and their signed offsets from it (left of its
+    direction positive)."""
+    t, d, length = _project(line, points)
+    n = len(line)
+    beside = (d <= reach) & (t > 0) & (t < length)
+    b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
+    tan = tangents(line)
+    normal = np.column_stack([-tan[:, 1], tan[:, 0]])
+    return beside, t, ((points - line[b]) * normal[b]).sum(axis=1)
+
+
+def clear_band(band: np.ndarray | float, spread: np.ndarray | float, work: Work
+               ) -> np.ndarray | bool:
+    """Whether a band free of ink ``band`` wide between two inks, the wider of which spreads
+    ``spread`` across, parts two lines: wider than the drawing's usual spacing of passes
+    (``params.fill_gap``), or than ``tuning.band_ratio`` times the inks beside it, and at
+    least ``tuning.band_floor`` d_eps."""
+    t = work.tuning
+    local = np.maximum(t.band_floor * work.d, t.band_ratio * np.asarray(spread))
+    return np.asarray(band) > np.minimum(work.params.fill_gap, local)
+
+
+def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
+               share: float = 0.0) -> tuple[list[int], list[int]] | None:
+    """The pieces (indices) either side of a band free of ink that runs all along the
+    passes beside the longest piece, where ``clear(band, spread)`` says it parts two
+    lines; None where no band does (one line, however loosely drawn).
+
+    The pieces beside the longest (within ``reach``, 4 samples or more) are ordered
+    across it by their median offset from it; each place in that order is judged in
+    stretches ``step`` long along it where ink lies on both sides: the band is the space
+    between the two sides' ink there, ``spread`` the wider side's width there. The band
+    must be clear in every such stretch, two or more of them, over at least ``share`` of
+    the length of the shorter side's longest piece: two lines drawn close keep their band
+    all along; loose passes of one line meet or cross somewhere, or overlap only at their
+    ends (drawn on). Of the places that part, the widest band's. A piece not beside the
+    longest goes with the longest's side.
+
+    >>> x = np.linspace(0, 1, 41)[:, None]
+    >>> two = [np.hstack([x, 0 * x + y]) for y in (0.0, 0.001, 0.02, 0.021)]
+    >>> band_split(two, 0.05, 0.1, lambda band, spread: band > 0.01)
+    ([0, 1], [2, 3])
+    >>> band_split(two, 0.05, 0.1, lambda band, spread: band > 0.03) is None
+    True
+    >>> crossing = [two[0], np.hstack([x, 0.02 * x])]  # they meet at one end
+    >>> band_split(crossing, 0.05, 0.1, lambda band, spread: band > 0.005) is None
+    True
+    """
+    root = max(range(len(pieces)), key=lambda k: (len(pieces[k]), -k))
+    line = pieces[root]
+    if len(line) < 3 or len(pieces) < 2:
+        return None
+    sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
+    beside, along, offset = _signed_offsets(line, np.concatenate(pieces), reach)
+    which = np.repeat(np.arange(len(pieces)), sizes)
+    judged = np.flatnonzero(np.bincount(which[beside], minlength=len(pieces)) >= 4)
+    if len(judged) < 2:
+        return None
+    keep = beside & np.isin(which, judged)
+    which, offset = which[keep], offset[keep]
+    stretch = (along[keep] / step).astype(np.intp)
+    middle = np.array([np.median(offset[which == k]) for k in judged])
+    rank = np.full(len(pieces), -1)
+    rank[judged[np.argsort(middle, kind="stable")]] = np.arange(len(judged))
+    longest = np.array([arc_lengths(pieces[k])[-1] for k in judged])  # for each judged
+    n = int(stretch.max()) + 1
+    best = None
+    for cut in range(len(judged) - 1):
+        low_side = rank[which] <= cut
+        ends = []
+        for side in (low_side, ~low_side):
+            lo, hi = np.full(n, np.inf), np.full(n, -np.inf)
+            np.minimum.at(lo, stretch[side], offset[side])
+            np.maximum.at(hi, stretch[side], offset[side])
+            ends.append((lo, hi))
+        (lo0, hi0), (lo1, hi1) = ends
+        both = np.isfinite(hi0) & np.isfinite(lo1)
+        shorter = min(longest[rank[judged] <= cut].max(), longest[rank[judged] > cut].max())
+        if both.sum() < max(2, share * shorter / step):  # drawn on, not beside each other
+            continue
+        band = (lo1 - hi0)[both]
+        spread = np.maximum(hi0 - lo0, hi1 - lo1)[both]
+        if np.all(clear(band, spread)) and (best is None or band.min() > best[0]):
+            best = (float(band.min()), cut)
+    if best is None:
+        return None
+    low = set(judged[rank[judged] <= best[1]].tolist())
+    side = low if root in low else set(judged.tolist()) - low
+    first = [k for k in range(len(pieces)) if k in side or k not in judged]
+    return first, [k for k in range(len(pieces)) if k not in first]
+
+
 def fit_group(members: list[int], work: Work) -> list[Line]:
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
+    sides = (band_split(pieces, reach, work.d,
+                        lambda band, spread: clear_band(band, spread, work), t.along_share)
+             if len(members) > 1 else None)
+    if sides is not None:
+        return [line for side in sides for line in fit_group([members[k] for k in side],
+                                                              work)]
     line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
     if len(members) == 1:
         return [Line(line, closed, tuple(members))]
