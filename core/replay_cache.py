@@ -1,8 +1,9 @@
 """Results kept to be replayed at other epsilons: what makes a slider (Blender's redo
 panel re-running the operator on every change) cheap.
 
-A sketch is simplified once at a generous epsilon; any smaller epsilon is then the replay
-of a prefix of its merge history (``SimplifyResult.at``), which equals a fresh run exactly.
+A sketch's merge loop runs once on to a generous epsilon (``simplify(..., cover=)``), the
+output made at the epsilon asked only; any epsilon up to the cover is then the replay of a
+prefix of its merge history (``SimplifyResult.at``), which equals a fresh run exactly.
 """
 
 from __future__ import annotations
@@ -50,10 +51,10 @@ class ReplayCache:
         one covers ``params.epsilon``."""
         key = (sketch_digest(sketch), replace(params, epsilon=0.0))
         cached = self._results.get(key)
-        if cached is None or cached.params.epsilon < params.epsilon:
+        if cached is None or cached.covers < params.epsilon:
             self.runs += 1
-            cover = max(params.epsilon, COVERED_EPSILON)
-            cached = simplify(sketch, replace(params, epsilon=cover))
+            # the loop runs on to the cover, the output is made at the epsilon asked only
+            cached = simplify(sketch, params, cover=max(params.epsilon, COVERED_EPSILON))
             self._results[key] = cached
             while len(self._results) > self.size:
                 self._results.popitem(last=False)

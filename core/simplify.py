@@ -97,6 +97,16 @@ class SimplifyResult:
     _input: Sketch | None = field(default=None, repr=False)
     _ink: NearestInk | None = field(default=None, repr=False)
     _memo: StrokeMemo = field(default_factory=StrokeMemo, repr=False)  # shared by .at()
+    #: the merge loop's whole record, where it ran on past ``params.epsilon`` (``cover``)
+    _recorded: list[Merge] | None = field(default=None, repr=False)
+    _covers: float | None = field(default=None, repr=False)
+
+    @property
+    def covers(self) -> float:
+        """The largest epsilon :meth:`at` can replay: ``params.epsilon``, or the ``cover``
+        the merge loop ran on to."""
+        return self.params.epsilon if self._covers is None else max(self._covers,
+                                                                    self.params.epsilon)
 
     @property
     def bundle_width(self) -> float:
@@ -109,22 +119,20 @@ class SimplifyResult:
                       src.height if src else None)
 
     def at(self, epsilon: float) -> SimplifyResult:
-        """The result ``simplify`` gives with a smaller ``epsilon``, by replaying history."""
-        if not 0 <= epsilon <= self.params.epsilon:
-            raise SketchError(f"epsilon {epsilon} is outside 0..{self.params.epsilon}, the "
+        """The result ``simplify`` gives at another ``epsilon`` up to :attr:`covers`, by
+        replaying the recorded merges (it equals a fresh run exactly)."""
+        if not 0 <= epsilon <= self.covers:
+            raise SketchError(f"epsilon {epsilon} is outside 0..{self.covers}, the "
                               "range this result's merge history covers")
         t0 = time.perf_counter()
-        state = ComplexState(self.complex)
-        for merge in self.history:
-            if merge.cost >= epsilon or state.targets_reached(self.params.target_patches,
-                                                              self.params.target_curves):
-                break
-            state.apply(merge)
+        record = self.history if self._recorded is None else self._recorded
+        state = _replayed(self.complex, record, replace(self.params, epsilon=epsilon))
         params = replace(self.params, epsilon=epsilon)
-        history = self.history[:state.merges_applied]
         timings = {"replay": time.perf_counter() - t0}
-        return _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
-                       state, history, params, None, timings, self._memo)
+        out = _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
+                      state, record[:state.merges_applied], params, None, timings, self._memo)
+        out._recorded, out._covers = record, self.covers
+        return out
 
     def fill_regions(self, min_share: float = FILL_MIN_SHARE) -> list[Region]:
         """The closed regions of the simplified drawing as plain rings (input coordinates),
@@ -171,7 +179,9 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
             timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
-    if params.lines == "pen":
+    # at epsilon 0 nothing merged: each stroke comes back as drawn (cleaned, fitted), as
+    # the pen stage gives it; the complex stage would chain strokes that merely touch
+    if params.lines == "pen" or params.epsilon == 0:
         pen = lines_from_pen(state, params.resolved(), ink.unit_points, memo)
         fitted = pen.work.fitted
         timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
@@ -194,8 +204,16 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
                           stats, sketch, ink, memo)
 
 
-def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyResult:
+def simplify(sketch: Sketch, params: SimplifyParams | None = None,
+             cover: float | None = None) -> SimplifyResult:
     """Simplify a rough sketch into few long smooth strokes.
+
+    Args:
+        sketch: the rough strokes.
+        params: what controls it (default :class:`SimplifyParams`).
+        cover: run the merge loop on to this epsilon, so that the result's :meth:`at`
+            replays any epsilon up to it (a slider), the output still made at
+            ``params.epsilon`` only.
 
     Raises :class:`SketchError` for input that cannot be a sketch or bad parameters.
     """
@@ -226,24 +244,47 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None) -> SimplifyRe
     result = None
     for wide in wider:  # judged at KEEP_EPSILON, then replayed to the epsilon asked
         run = _run(cleaned, ink, report, norm, cx,
-                   replace(wide, epsilon=max(wide.epsilon, KEEP_EPSILON)), timings)
+                   replace(wide, epsilon=max(wide.epsilon, KEEP_EPSILON)), timings, cover)
         judged = run if run.params.epsilon == KEEP_EPSILON else run.at(KEEP_EPSILON)
         if _keeps_ink(drawing, [norm.to_unit(s.points) for s in judged.strokes], reach):
             result = run if wide.epsilon == run.params.epsilon else run.at(wide.epsilon)
             break
     if result is None:
-        result = _run(cleaned, ink, report, norm, cx, params, timings)
+        result = _run(cleaned, ink, report, norm, cx, params, timings, cover)
     result.timings["total"] = time.perf_counter() - t0
     return result
 
 
+def _replayed(cx: BaseComplex, record: list[Merge], params: SimplifyParams) -> ComplexState:
+    """The complex after the recorded merges a run at ``params.epsilon`` applies: those
+    cheaper than it, up to the targets (the merge loop's own stopping rule)."""
+    state = ComplexState(cx)
+    for merge in record:
+        if merge.cost >= params.epsilon or state.targets_reached(params.target_patches,
+                                                                 params.target_curves):
+            break
+        state.apply(merge)
+    return state
+
+
 def _run(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normalisation,
-         cx: BaseComplex, params: SimplifyParams, timings: dict[str, float]) -> SimplifyResult:
-    """The merge loop and the output stage on the base complex, at one resolved width."""
+         cx: BaseComplex, params: SimplifyParams, timings: dict[str, float],
+         cover: float | None = None) -> SimplifyResult:
+    """The merge loop and the output stage on the base complex, at one resolved width;
+    with ``cover`` above epsilon, the loop runs on to it (recorded for :meth:`at`) and
+    the output is made at epsilon alone."""
     t0 = time.perf_counter()
-    history, state, stats = agglomerate(cx, params)
+    on = cover is not None and cover > params.epsilon
+    record, state, stats = agglomerate(cx, replace(params, epsilon=cover) if on else params)
+    history = record
+    if on:
+        state = _replayed(cx, record, params)
+        history = record[:state.merges_applied]
     timings = {**timings, "agglomerate": time.perf_counter() - t0}
-    return _finish(sketch, ink, cleaning, norm, cx, state, history, params, stats, timings)
+    out = _finish(sketch, ink, cleaning, norm, cx, state, history, params, stats, timings)
+    if on:
+        out._recorded, out._covers = record, cover
+    return out
 
 
 def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float) -> bool:

@@ -120,11 +120,44 @@ def test_epsilon_zero_merges_nothing():
     assert result.counts["after"]["curves"] == result.counts["before"]["curves"]
     assert result.counts["after"]["patches"] == result.counts["before"]["patches"]
     ink = [s.points for s in sketch.strokes]
-    # the output stage snaps, smooths and trims overshoots (also where a stroke closes on
-    # itself: 1.3 and 2 widths cut off two of the house's), and moves nothing else
     out = [s.points for s in result.strokes]
     assert coverage(ink, out, tol=1.0) > 0.98
     assert coverage(ink, out, tol=0.02 * result.normalisation.scale) > 0.995
+
+
+@pytest.mark.parametrize("lines", ["complex", "pen"])
+def test_at_epsilon_zero_every_stroke_comes_back_whole_as_drawn(lines):
+    """As the README says, whichever output stage: strokes that touch end to end (the
+    house's walls meet its roof; the complex stage used to chain 18 into 14) stay apart,
+    each output stroke on its own input stroke, end to end. Also as a replay."""
+    sketch = read_sketch(SAMPLES / "house.scap")
+    for result in (simplify(sketch, SimplifyParams(epsilon=0.0, lines=lines)),
+                   simplify(sketch, SimplifyParams(epsilon=0.03, lines=lines)).at(0.0)):
+        assert len(result.strokes) == len(sketch.strokes)
+        near = 0.005 * result.normalisation.scale  # the Bezier fit's error, 0.5% of D
+        for drawn, back in zip(sketch.strokes, result.strokes):
+            line = shapely.LineString(drawn.points)
+            assert line.distance(shapely.points(back.points)).max() < near
+            assert np.allclose(back.points[[0, -1]], drawn.points[[0, -1]], atol=1e-6)
+
+
+@pytest.mark.parametrize("sample", ["house", "cup"])
+def test_a_run_covering_a_larger_epsilon_gives_the_epsilon_asked_and_replays_above_it(sample):
+    """cover runs the merge loop on (for a slider) but makes the output at epsilon only:
+    the result equals a plain run at epsilon, and its replays above epsilon equal fresh
+    runs there too."""
+    sketch = read_sketch(SAMPLES / f"{sample}.scap")
+    covered = simplify(sketch, SimplifyParams(epsilon=0.015), cover=0.05)
+    assert covered.covers == 0.05 and covered.params.epsilon == 0.015
+    for got, eps in ((covered, 0.015), (covered.at(0.04), 0.04), (covered.at(0.04).at(0.01),
+                                                                    0.01)):
+        fresh = simplify(sketch, SimplifyParams(epsilon=eps))
+        assert [m.cost for m in got.history] == [m.cost for m in fresh.history]
+        assert len(got.strokes) == len(fresh.strokes)
+        for x, y in zip(got.strokes, fresh.strokes):
+            np.testing.assert_array_equal(x.bezier, y.bezier)
+    with pytest.raises(SketchError, match="outside"):
+        covered.at(0.06)
 
 
 def test_raising_epsilon_never_increases_the_primitives():

@@ -4,7 +4,8 @@
 belong to two different groups; and where it comes back along its own earlier ink (a
 ring drawn round several times, a line drawn back over itself), each turn a piece.
 Invariant: the pieces of a stroke, in order, are the
-whole stroke (each cut point ends one piece and starts the next)."""
+whole stroke (each cut point ends one piece and starts the next); at epsilon 0 (nothing
+merged) each stroke is one piece, so that it comes back whole."""
 
 from __future__ import annotations
 
@@ -87,10 +88,13 @@ def run(work: Work) -> Work:
     for k, stroke in enumerate(work.strokes):
         if len(stroke) < 2 or arc_lengths(stroke)[-1] <= 0:
             continue
-        cut = [turn for leg in cut_at_corners(stroke, work.h, work.tuning.cut_angle,
-                                              work.tuning.cut_reach * work.d)
-               for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
-                                                work.tuning.follow_cos)]
+        if not work.merged:  # epsilon 0: each stroke comes back whole, as drawn
+            cut = [resample_polyline(stroke, work.h)]
+        else:
+            cut = [turn for leg in cut_at_corners(stroke, work.h, work.tuning.cut_angle,
+                                                  work.tuning.cut_reach * work.d)
+                   for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
+                                                    work.tuning.follow_cos)]
         for j, piece in enumerate(cut):
             pieces.append(piece)
             owner.append(k)
