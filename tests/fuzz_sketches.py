@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 
 from core import SimplifyParams, Sketch, SketchError, Stroke, simplify
 from core.complex.base_complex import BaseComplex, check_euler
+from core.io.cleaning import MIN_STROKE_SHARE
 
 finite = st.floats(-100, 100, allow_nan=False, allow_infinity=False)
 point = st.tuples(finite, finite)
@@ -69,6 +70,12 @@ extreme_scale = st.tuples(st.lists(polyline, min_size=1, max_size=6),
                           st.sampled_from([0.0, 1e9, -1e9, 1e-9])).map(
     lambda a: [p * a[1] + a[2] for p in a[0]])
 
+far_ink = st.tuples(st.lists(polyline, min_size=1, max_size=4),
+                    st.sampled_from([1e6, 1e9, 1e12]), st.sampled_from([1e-9, 1.0, 1e9]),
+                    st.booleans()).map(
+    lambda a: ([p * 1e-9 for p in a[0]] if a[3] else a[0])
+    + [np.array([[a[1], 0.0], [a[1] + a[2], 0.0]]), np.array([[a[1], 1.0], [a[1] + a[2], 2.0]])])
+
 non_finite = st.tuples(st.lists(polyline, min_size=1, max_size=6),
                        st.lists(st.tuples(st.integers(0, 100), st.integers(0, 1),
                                           st.sampled_from([np.nan, np.inf, -np.inf])),
@@ -111,6 +118,7 @@ KINDS = {
     "back-and-forth scribbles": (scribble, 1.0),
     "coordinates at 1e9 and 1e-9": (extreme_scale, 1.0),
     "NaN and inf mixed in": (non_finite, 1.0),
+    "ink far away, a billion long or tiny": (far_ink, 1.0),
     "one stroke of 100,000 points": (long_stroke, 0.01),
     "random": (random_sketch, 1.0),
 }
@@ -147,6 +155,9 @@ def check(strokes: list[np.ndarray], params: SimplifyParams | None = None) -> st
     finite_in = np.concatenate([s[np.isfinite(s).all(axis=1)] for s in strokes])
     lo, hi = finite_in.min(axis=0), finite_in.max(axis=0)
     reach = max(float((hi - lo).max()), 1e-300)
+    if any(np.ptp(s[np.isfinite(s).all(axis=1)], axis=0).max() > MIN_STROKE_SHARE * reach
+           for s in strokes if np.isfinite(s).all(axis=1).sum() >= 2):
+        assert result.strokes, "every stroke was lost"  # simplified means something came out
     for s in result.strokes:
         assert np.isfinite(s.points).all() and np.isfinite(s.bezier).all()
         # output stays where the ink was (within a tenth of its extent for the fits)

@@ -10,9 +10,8 @@ import numpy as np
 from ..sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "REACH", "clean_sketch", "clean_stroke", "CleaningReport", "drawing_box", "drawing_strokes",
-    "Normalisation",
-    "normalised_strokes",
+    "MAX_INK_DIAGONALS", "MIN_STROKE_SHARE", "REACH", "clean_sketch", "clean_stroke",
+    "CleaningReport", "drawing_box", "drawing_strokes", "Normalisation", "normalised_strokes",
 ]
 
 
@@ -104,6 +103,7 @@ class Normalisation:
         if not drawing >= MIN_EXTENT:
             raise SketchError(f"the drawing's extent {drawing:.3g} is below {MIN_EXTENT:.0e} "
                               "beside ink far away, where distances cannot be measured")
+        _check_resolvable(sketch, drawing)
         return cls((x0, y0), drawing)
 
     def to_unit(self, points: np.ndarray) -> np.ndarray:
@@ -111,6 +111,36 @@ class Normalisation:
 
     def from_unit(self, points: np.ndarray) -> np.ndarray:
         return points * self.scale + np.asarray(self.origin)
+
+
+#: the ink may be at most this many times as long as the drawing's diagonal: it is sampled
+#: a few hundred times a diagonal (a quarter of d_eps), so 10,000 diagonals are a few
+#: million samples; a 5,000-stroke page holds about a thousand. Beyond it lies ink far
+#: from the drawing (a line a million diagonals long beside it), not a drawing
+MAX_INK_DIAGONALS = 1e4
+#: the largest stroke must be at least this share of the drawing's diagonal: a hundred
+#: times the grid the complex's noding snaps to (:data:`core.complex.noding.GRID`), where
+#: every stroke would collapse, and nothing come out
+MIN_STROKE_SHARE = 1e-4
+
+
+def _check_resolvable(sketch: Sketch, drawing: float) -> None:
+    """Refuse, with a message that says why, a sketch whose ink the drawing's scale cannot
+    hold: far too long (memory), or every stroke far too small (nothing would come out)."""
+    ink = largest = 0.0
+    for s in sketch.strokes:
+        ink += float(np.hypot(*np.diff(s.points, axis=0).T).sum())
+        largest = max(largest, float(np.hypot(*np.ptp(s.points, axis=0))))
+    if ink > MAX_INK_DIAGONALS * drawing:
+        raise SketchError(f"the ink is {ink / drawing:.3g} times as long as the drawing's "
+                          f"diagonal ({drawing:.3g}), more than {MAX_INK_DIAGONALS:.0e}: ink far "
+                          "from the drawing is too long to simplify at its scale (simplify "
+                          "the parts apart)")
+    if largest < MIN_STROKE_SHARE * drawing:
+        raise SketchError(f"every stroke is under {MIN_STROKE_SHARE:.0e} of the drawing's "
+                          f"diagonal ({drawing:.3g}; the largest is {largest:.3g} across): "
+                          "parts this far apart cannot be simplified as one drawing "
+                          "(simplify the parts apart)")
 
 
 def normalised_strokes(sketch: Sketch) -> tuple[list[np.ndarray], Normalisation]:
