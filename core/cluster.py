@@ -31,7 +31,7 @@ import types
 from collections.abc import Iterator
 
 from . import remote
-from .parallel import Simplified
+from .engine import Simplified
 from .params import SimplifyParams
 from .replay_cache import sketch_digest
 from .sketch import Region, Sketch, SketchError, Stroke
@@ -112,7 +112,7 @@ class ClusterRun:
         return key
 
     def result(self, key: str):
-        """The :class:`~core.parallel.Simplified` of a submitted sketch, or its
+        """The :class:`~core.engine.Simplified` of a submitted sketch, or its
         :class:`~core.sketch.SketchError`."""
         try:
             return _from_plain(self._futures[key].result())

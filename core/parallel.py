@@ -20,31 +20,15 @@ import sys
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
-from dataclasses import dataclass
 from pathlib import Path
 
+from .engine import Simplified, simplified
 from .params import SimplifyParams
 from .replay_cache import sketch_digest
 from .simplify import simplify
-from .sketch import Region, Sketch, SketchError, Stroke
+from .sketch import Sketch, SketchError
 
-__all__ = ["Simplified", "default_jobs", "simplified", "simplify_all", "unique_sketches"]
-
-
-@dataclass(frozen=True)
-class Simplified:
-    """What comes back of one sketch: the output strokes and, when asked for, its closed
-    regions (:meth:`core.simplify.SimplifyResult.fill_regions`)."""
-
-    strokes: list[Stroke]
-    regions: list[Region]
-    width: float  #: the bundle width used, in the sketch's units (d_eps)
-
-
-def simplified(result, regions: bool) -> Simplified:
-    """The plain data of a result that crosses back to the caller."""
-    return Simplified(result.strokes, result.fill_regions() if regions else [],
-                      result.bundle_width)
+__all__ = ["default_jobs", "simplify_all", "unique_sketches"]
 
 
 def _simplify_one(args: tuple[Sketch, SimplifyParams, bool]) -> Simplified | SketchError:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from .parallel import simplified
+from .engine import simplified
 from .params import SimplifyParams
 from .simplify import simplify
 from .sketch import Sketch, SketchError, Stroke

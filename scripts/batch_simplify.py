@@ -14,7 +14,12 @@ sent first, so that all files are in flight at once, then each file is opened ag
 written as its results come; the workers need the project's Python package, not Blender),
 --resume (skip the inputs whose output file exists; Blender saves whole files).
 The result of each layer goes to a new layer above it, as the operator does.
-Exits 2 with one line on a missing file, a file without Grease Pencil or a bad frame range.
+
+Every file is reported: one that cannot be done (missing, not a readable .blend, empty,
+without Grease Pencil, or failing while simplified) is named with its reason, and the rest
+are done. Exit status: 0 when every file was done, 1 when any failed (the summary's
+"failed" lists them), 2 with one line, before any work, on a bad option, an output folder
+or summary path that cannot be written.
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ import shutil
 import sys
 import tempfile
 import time
+import traceback
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -37,7 +43,11 @@ import bpy  # noqa: E402
 
 
 class UsageError(Exception):
-    """A problem with the command's input: one line, exit status 2."""
+    """A problem with the command's input: one line, exit status 2, nothing done."""
+
+
+class FileError(Exception):
+    """One input file that cannot be done: named with the reason, the others still done."""
 
 
 def script_argv(argv: list[str]) -> list[str]:
@@ -95,7 +105,6 @@ def output_path(blend: Path, args, several: bool) -> Path:
     if args.output is None:
         return blend.with_name(blend.stem + "_simplified.blend")
     if several:
-        args.output.mkdir(parents=True, exist_ok=True)
         return args.output / blend.name
     return args.output
 
@@ -103,15 +112,45 @@ def output_path(blend: Path, args, several: bool) -> Path:
 def open_objects(blend: Path | None, args) -> list:
     """Open ``blend`` (None: the file already open) and its Grease Pencil objects to run."""
     if blend is not None:
-        bpy.ops.wm.open_mainfile(filepath=str(blend))
+        if blend.stat().st_size == 0:
+            raise FileError(f"{blend}: empty file")
+        try:
+            bpy.ops.wm.open_mainfile(filepath=str(blend))
+        except RuntimeError as exc:  # Blender's "Cannot read file ..." and the like
+            reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else "unreadable"
+            raise FileError(f"{blend}: not a readable .blend ({reason})") from None
     wanted = {n for n in args.objects.split(",") if n}
     objects = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"
                and (not wanted or o.name in wanted)]
-    name = blend.name if blend else bpy.data.filepath
+    name = str(blend) if blend else bpy.data.filepath
     if not objects:
-        raise UsageError(f"{name}: no Grease Pencil object"
-                         + (f" named {', '.join(sorted(wanted))}" if wanted else ""))
+        raise FileError(f"{name}: no Grease Pencil object"
+                        + (f" named {', '.join(sorted(wanted))}" if wanted else ""))
     return objects
+
+
+def writable_folder(folder: Path, what: str) -> None:
+    """Raise UsageError unless a file can be created in ``folder`` (made if missing)."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise UsageError(f"{what} {folder} cannot be written: {exc.strerror or exc}") from None
+
+
+def check_outputs(blends: list, args, several: bool) -> None:
+    """The places the run will write, tried before any work: the output folder (or each
+    output file's folder) and the summary's folder."""
+    folders = {output_path(b, args, several).parent if b is not None else
+               Path(bpy.data.filepath).parent for b in blends} if not (
+        several and args.output is not None and not args.in_place) else {args.output}
+    for folder in sorted(folders):
+        writable_folder(folder, "output folder")
+    if args.summary is not None:
+        if args.summary.is_dir():
+            raise UsageError(f"summary path {args.summary} is a folder")
+        writable_folder(args.summary.parent, "summary folder")
 
 
 def run_options(args, frames_mode: str) -> SimpleNamespace:
@@ -177,12 +216,20 @@ def main() -> int:
         blends = list(args.blend) or ([None] if bpy.data.filepath else [])
         if not blends:
             raise UsageError("no .blend file given")
-        for blend in blends:
-            if blend is not None and not blend.is_file():
-                raise UsageError(f"{blend}: no such file")
         if args.resume and args.in_place:
             raise UsageError("--resume cannot tell finished files when writing in place")
         several = len(blends) > 1  # outputs named as for every file given
+        failed: list[dict] = []
+
+        def fail(blend, reason: str) -> None:
+            print(f"batch_simplify: {reason}", file=sys.stderr, flush=True)
+            failed.append({"file": str(blend), "reason": reason})
+
+        for blend in blends:
+            if blend is not None and not blend.is_file():
+                fail(blend, f"{blend}: no such file")
+        blends = [b for b in blends if b is None or b.is_file()]
+        check_outputs(blends, args, several)
         if args.resume:
             done = [b for b in blends if b is not None and output_path(b, args, several).is_file()]
             for b in done:
@@ -193,8 +240,13 @@ def main() -> int:
             from sketchsimp.core.cluster import ClusterRun
 
             cluster = ClusterRun(args.scheduler, params, regions=args.fill_regions)
-            for blend in blends:  # every file in flight before the first is written
-                sent = send_drawings(blend, args, run, cluster, frames_mode, frame_range)
+            for blend in list(blends):  # every file in flight before the first is written
+                try:
+                    sent = send_drawings(blend, args, run, cluster, frames_mode, frame_range)
+                except FileError as exc:
+                    fail(blend, str(exc))
+                    blends.remove(blend)
+                    continue
                 print(f"{blend or bpy.data.filepath}: {sent} drawing(s) sent to "
                       f"{args.scheduler}", flush=True)
 
@@ -203,12 +255,20 @@ def main() -> int:
         rows = []
         for blend in blends:
             print(f"{blend or bpy.data.filepath}:", flush=True)
-            row = process(blend, args, params, run, frames_mode, frame_range, engine)
-            source = Path(bpy.data.filepath)
-            target = output_path(source, args, several)
-            if args.in_place:
-                shutil.copy2(source, source.with_suffix(".blend1"))
-            bpy.ops.wm.save_as_mainfile(filepath=str(target), copy=not args.in_place)
+            try:
+                row = process(blend, args, params, run, frames_mode, frame_range, engine)
+                source = Path(bpy.data.filepath)
+                target = output_path(source, args, several)
+                if args.in_place:
+                    shutil.copy2(source, source.with_suffix(".blend1"))
+                bpy.ops.wm.save_as_mainfile(filepath=str(target), copy=not args.in_place)
+            except FileError as exc:
+                fail(blend, str(exc))
+                continue
+            except Exception as exc:  # one bad file must not stop a farm's batch
+                traceback.print_exc()
+                fail(blend, f"{blend or bpy.data.filepath}: {type(exc).__name__}: {exc}")
+                continue
             row["output"] = str(target)
             rows.append(row)
     except (UsageError, SketchError) as exc:
@@ -220,14 +280,18 @@ def main() -> int:
     seconds = time.perf_counter() - t0
     total = {k: sum(r[k] for r in rows) for k in ("drawings", "strokes_in", "strokes_out")}
     print(f"{len(rows)} file(s), {total['drawings']} drawing(s): {total['strokes_in']} strokes "
-          f"-> {total['strokes_out']} in {seconds:.2f} s")
+          f"-> {total['strokes_out']} in {seconds:.2f} s"
+          + (f"; {len(failed)} file(s) failed" if failed else ""))
     for row in rows:
         for s in row["skipped"]:
             print(f"  skipped {s}")
+    for f in failed:
+        print(f"  failed {f['reason']}")
     if args.summary:
-        args.summary.write_text(json.dumps({"files": rows, **total, "seconds": seconds,
-                                            "params": params.as_dict()}, indent=2))
-    return 0
+        args.summary.write_text(json.dumps({"files": rows, "failed": failed, **total,
+                                            "seconds": seconds, "params": params.as_dict()},
+                                           indent=2))
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ import hashlib
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import bpy
 import pytest
@@ -90,7 +91,11 @@ def test_frame_range_objects_and_in_place_with_backup(shot):
     assert done.returncode == 0, done.stderr
     assert shot.with_suffix(".blend1").read_bytes() == before
     layers = inspect(shot)
-    assert sorted(layers["Shot"]["Ink simplified"]) == ["5", "9"]
+    out, ink = layers["Shot"]["Ink simplified"], layers["Shot"]["Ink"]
+    # the source is hidden: keyframes outside 4-9 are shown on the result as drawn
+    assert sorted(out, key=int) == ["1", "5", "9", "13"]
+    assert out["1"] == ink["1"] and out["13"] == ink["13"] == 0
+    assert 0 < out["5"] == out["9"] < ink["5"]
     assert "Ink simplified" not in layers["Extra"]
 
 
@@ -126,18 +131,53 @@ def test_several_files_on_a_dask_cluster_match_the_local_run_and_resume_skips_do
                                                                    "other.blend")
 
 
-def test_errors_exit_2_with_one_line(shot, tmp_path):
+def test_bad_options_exit_2_with_one_line_before_any_work(shot, tmp_path):
+    unwritable = tmp_path / "a_file"
+    unwritable.write_text("not a folder")
+    for args, message in (([shot, "--frames", "9-2"], "bad frame range"),
+                          ([shot, "--frames", "x"], "bad frame range"),
+                          ([shot, "--jobs", "0"], "--jobs must be at least 1"),
+                          ([shot, shot, "--output", unwritable / "out"],
+                           "output folder"),
+                          ([shot, "--output", "/proc/sketchsimp/out.blend"],
+                           "output folder"),
+                          ([shot, "--summary", unwritable / "s.json"], "summary folder"),
+                          ([shot, "--summary", tmp_path], "is a folder")):
+        done = run(*args, *([] if "--frames" in args else ["--frames", "current"]))
+        assert done.returncode == 2, (args, done.stdout, done.stderr)
+        assert message in done.stderr and done.stderr.count("\n") == 1, done.stderr
+        assert "drawing(s)" not in done.stdout  # nothing was simplified
+    assert not (tmp_path / "shot_simplified.blend").exists()
+
+
+def test_a_corrupt_an_empty_and_a_file_without_grease_pencil_are_named_and_the_rest_done(
+        shot, tmp_path):
     clear_scene()
     bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
-    empty = tmp_path / "no_gp.blend"
-    bpy.ops.wm.save_as_mainfile(filepath=str(empty), copy=True)
-    for args, message in (([tmp_path / "missing.blend"], "no such file"),
-                          ([empty], "no Grease Pencil"),
-                          ([shot, "--frames", "9-2"], "bad frame range"),
-                          ([shot, "--frames", "x"], "bad frame range")):
-        done = run(*args)
-        assert done.returncode == 2, (args, done.stdout, done.stderr)
-        assert message in done.stderr and done.stderr.count("\n") == 1
+    no_gp = tmp_path / "no_gp.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(no_gp), copy=True)
+    corrupt = tmp_path / "corrupt.blend"
+    corrupt.write_bytes(b"BLENDER-v405" + bytes(range(256)) * 8)
+    empty = tmp_path / "empty.blend"
+    empty.write_bytes(b"")
+    other = tmp_path / "other.blend"
+    other.write_bytes(shot.read_bytes())
+    out, summary = tmp_path / "out", tmp_path / "summary.json"
+    done = run(corrupt, shot, empty, tmp_path / "missing.blend", no_gp, other,
+               "--output", out, "--summary", summary, "--frames", "current")
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["other.blend", "shot.blend"]
+    info = json.loads(summary.read_text())
+    reasons = {Path(f["file"]).name: f["reason"] for f in info["failed"]}
+    assert sorted(reasons) == ["corrupt.blend", "empty.blend", "missing.blend", "no_gp.blend"]
+    assert "not a readable .blend" in reasons["corrupt.blend"]
+    assert "empty file" in reasons["empty.blend"]
+    assert "no such file" in reasons["missing.blend"]
+    assert "no Grease Pencil" in reasons["no_gp.blend"]
+    assert [Path(r["file"]).name for r in info["files"]] == ["shot.blend", "other.blend"]
+    assert "4 file(s) failed" in done.stdout
+    for name in reasons:
+        assert name in done.stderr
 
 
 def test_core_batch_folder(tmp_path):

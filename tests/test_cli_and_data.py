@@ -46,3 +46,18 @@ def test_every_real_sketch_builds_a_valid_complex():
         info = inspect_sketch(path)  # raises if Euler's formula fails
         assert info["nodes"] - info["curves"] + info["patches"] == info["components"], path
         assert info["curves"] > 0
+
+
+def test_the_local_pool_and_the_dask_runner_share_only_core_engine():
+    """core.cluster and core.remote never import core.parallel (the pool), and
+    core.engine, the interface both use, imports neither: no import circle."""
+    import ast
+
+    def imported(name: str) -> set[str]:
+        tree = ast.parse((ROOT / "core" / f"{name}.py").read_text())
+        return {node.module for node in ast.walk(tree)
+                if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module}
+
+    assert "parallel" not in imported("cluster") | imported("remote")
+    assert "engine" in imported("cluster") and "engine" in imported("remote")
+    assert not {"parallel", "cluster", "remote"} & imported("engine")
