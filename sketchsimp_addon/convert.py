@@ -5,7 +5,8 @@ own best-fit plane (the two main axes of its points: the X-Z plane for a front-v
 drawing) and the result is lifted back onto the same plane, so no transform is involved.
 Width comes from the stroke radius; material, opacity and vertex colour of an output
 stroke come from the input strokes it was made from, per knot from the nearest of their
-points (colour only from those of the stroke's main colour).
+points (colour from those of the stroke's main colour, where that colour's ink lies within
+the bundle width of the knot).
 """
 
 from __future__ import annotations
@@ -174,11 +175,15 @@ def _nearest(points: np.ndarray, ink: np.ndarray) -> np.ndarray:
     return out
 
 
-def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane) -> NewStrokes:
+def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane,
+                   reach: float = 0.0) -> NewStrokes:
     """Output strokes as Bezier knots and handles on the plane, with attributes per knot:
     the radius the core carried over from the ink (its profile, ends tapered as drawn),
     opacity from the nearest ink point of the stroke's sources, and vertex colour from the
-    nearest of those that have the stroke's main colour."""
+    nearest of those that have the stroke's main colour, where such ink lies within
+    ``reach`` (the bundle width) of the knot; elsewhere from the nearest ink of any colour.
+    A bundle of red and blue passes stays one colour; a circle drawn half red, half blue
+    comes out half red, half blue."""
     slices = data.stroke_slices()
     ink = plane.to_2d(data.positions)
     step = SAMPLES_PER_SEGMENT // KNOTS_PER_SEGMENT
@@ -200,7 +205,9 @@ def to_new_strokes(result_strokes: list[Stroke], data: DrawingData, plane: Plane
         opacity.append(np.clip(data.opacity[near], 0.0, 1.0).astype(np.float32))
         if data.vertex_color is not None:
             main = src_points[_dominant_colour(data.vertex_color[src_points])]
-            colours.append(data.vertex_color[main[_nearest(k, ink[main])]].astype(np.float32))
+            on_main = main[_nearest(k, ink[main])]
+            away = np.hypot(*(ink[on_main] - k).T) > reach  # no ink of the main colour here
+            colours.append(data.vertex_color[np.where(away, near, on_main)].astype(np.float32))
         material = Counter(int(data.material_index[i]) for i in src).most_common(1)[0][0]
         materials.append(int(s.style) if s.style is not None else material)
         cyclic.append(bool(s.closed))

@@ -24,10 +24,6 @@ class DrawingData:
     material_index: np.ndarray  # (S,) int32
     cyclic: np.ndarray  # (S,) bool
 
-    @classmethod
-    def none(cls) -> NewStrokes:
-        """No strokes: what an empty keyframe is simplified into."""
-        return cls([], [], [], [], [], None, np.zeros(0, np.int32), np.zeros(0, bool))
     selected: np.ndarray  # (S,) bool
     curve_type: np.ndarray  # (S,) int8
 
@@ -56,3 +52,16 @@ class NewStrokes:
     def none(cls) -> NewStrokes:
         """No strokes: what an empty keyframe is simplified into."""
         return cls([], [], [], [], [], None, np.zeros(0, np.int32), np.zeros(0, bool))
+
+    @classmethod
+    def as_drawn(cls, data: DrawingData) -> NewStrokes:
+        """A drawing's strokes as they are, knot for point (handles on the knots: the
+        polyline drawn), with their radius, opacity, colour, material and closure: what a
+        result layer shows at a keyframe that was not simplified, so that hiding the
+        source shows the same there."""
+        cut = data.stroke_slices()
+        knots = [data.positions[c].astype(np.float32) for c in cut]
+        return cls(knots, [k.copy() for k in knots], [k.copy() for k in knots],
+                   [data.radius[c] for c in cut], [data.opacity[c] for c in cut],
+                   None if data.vertex_color is None else [data.vertex_color[c] for c in cut],
+                   data.material_index.astype(np.int32), data.cyclic.astype(bool))

@@ -39,11 +39,13 @@ from .gp_io import grease_pencil_data, read_drawing, write_strokes
 
 __all__ = [
     "collect_drawings", "DrawingResult", "FILL_MATERIAL", "fill_materials", "FLAT",
-    "gather_drawings", "Gathered", "held_across_frames", "HOLE_MATERIAL", "layer_to_world", "LOOK",
-    "match_parent", "new_layer_like", "place_above", "POOL_FROM", "Prepared", "REPLAY",
-    "results_of", "RunReport", "simplified_here", "simplify_curve_object", "simplify_object",
-    "source_frames", "StepwiseRun", "target_layers", "untouchable_materials", "why_left_alone",
-    "write_curve_result", "write_fills", "write_frames", "write_results",
+    "gather_drawings", "Gathered", "held_across_frames", "HOLE_MATERIAL", "keep_in_view",
+    "layer_to_world",
+    "LOOK", "match_parent", "new_layer_like", "place_above", "POOL_FROM", "Prepared", "REPLAY",
+    "RESULT_SUFFIXES", "result_of", "results_of", "RunReport", "simplified_here",
+    "simplify_curve_object", "simplify_object", "source_frames", "StepwiseRun",
+    "target_layers", "untouchable_materials", "why_left_alone", "write_curve_result",
+    "write_fills", "write_frames", "write_results",
 ]
 
 
@@ -113,7 +115,7 @@ def simplify_curve_object(obj, params: SimplifyParams) -> tuple[RunReport, NewSt
     except SketchError as exc:
         report.skipped.append(f"'{obj.name}' ({exc})")
         return report, None
-    new = to_new_strokes(result.strokes, data, plane)
+    new = to_new_strokes(result.strokes, data, plane, result.bundle_width)
     report.drawings, report.strokes_in, report.strokes_out = 1, len(polylines), len(new.knots)
     report.widths.append(result.bundle_width)
     report.seconds = time.perf_counter() - t0
@@ -140,6 +142,10 @@ def write_curve_result(obj, options, new: NewStrokes, context):
     return target
 
 
+#: the names a result layer gets after its source's
+RESULT_SUFFIXES = (" simplified", " fills")
+
+
 def why_left_alone(layer) -> str | None:
     """Why a layer may not be simplified: locked or hidden, itself or in a layer group
     (a locked group locks its layers, a hidden one hides them); None when it may."""
@@ -153,6 +159,16 @@ def why_left_alone(layer) -> str | None:
     return None
 
 
+def result_of(gp, layer):
+    """The layer whose result (" simplified", " fills") ``layer`` is, beside it, or None."""
+    for suffix in RESULT_SUFFIXES:
+        if layer.name.endswith(suffix):
+            source = gp.layers.get(layer.name[:-len(suffix)])
+            if source is not None and source.parent_group == layer.parent_group:
+                return source
+    return None
+
+
 def target_layers(gp, which: str, report: RunReport) -> list:
     """The layers to work on; locked and hidden ones (or in such groups) are left alone
     and named."""
@@ -162,6 +178,10 @@ def target_layers(gp, which: str, report: RunReport) -> list:
         if layer is None:
             continue
         why = why_left_alone(layer)
+        source = result_of(gp, layer)
+        if source is not None:
+            why = (f"the result of '{source.name}': replaced when '{source.name}' is "
+                   "simplified again")
         if why == "hidden" and gp.layers.get(f"{layer.name} simplified") is not None:
             why = (f"hidden: simplified before into '{layer.name} simplified'; show it to "
                    "simplify it again")
@@ -314,7 +334,8 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
             report.skipped.append(f"'{p.layer.name}' frame {p.frames[0].frame_number} ({out})")
             continue
         results.append(DrawingResult(
-            p.layer, p.frames, p.chosen, to_new_strokes(out.strokes, p.data, p.plane),
+            p.layer, p.frames, p.chosen, to_new_strokes(out.strokes, p.data, p.plane,
+                                                        out.width),
             fill_strokes(out.regions, p.plane, *materials) if materials else None))
         report.drawings += 1
         report.strokes_in += len(p.chosen)
@@ -499,11 +520,15 @@ def match_parent(layer, source) -> None:
 
 
 def place_above(gp, layer, below) -> None:
-    """Move a new layer (added on top) down to just above ``below``, in the main stack."""
-    if layer.parent_group is not None or below.parent_group is not None:
-        return  # layer groups: leave the new layer on top
-    names = [x.name for x in gp.layers]
-    for _ in range(names.index(layer.name) - names.index(below.name) - 1):
+    """Move ``layer`` down to just above ``below`` in the layer group (or the main stack)
+    both are in; a layer group between them is passed as one step."""
+    if layer.parent_group != below.parent_group:
+        return
+    for _ in range(len(gp.layers) + len(gp.layer_groups)):
+        names = [x.name for x in gp.layers]  # the whole tree, bottom to top
+        at, under = names.index(layer.name), names.index(below.name)
+        if at <= under + 1:
+            return
         gp.layers.move(layer, "DOWN")
 
 
@@ -534,7 +559,7 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
     if options.output == "REPLACE":
         for name, below in write_fills(obj.data, results).items():  # under the source
             place_above(obj.data, below, sources[name])
-            if below.parent_group is None and sources[name].parent_group is None:
+            if below.parent_group == sources[name].parent_group:
                 obj.data.layers.move(below, "DOWN")  # now just under the source
         for r in results:
             if not r.chosen:  # an empty keyframe: nothing to replace
@@ -567,6 +592,9 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             if options.hide_source and options.scope != "SELECTED":
                 layer.hide = True
         write_frames(made[layer.name], r.frames, r.new)
+    if options.hide_source and options.scope != "SELECTED":
+        for name, dest in made.items():
+            keep_in_view(sources[name], dest)
     for name, below in filled.items():  # fills just under their lines
         if target is obj:  # the lines are just above the source: the fills go between
             place_above(gp, below, sources[name])
@@ -575,16 +603,47 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
     return target
 
 
+def result_name(layer, suffix: str) -> str:
+    return layer.name + suffix
+
+
+def earlier_result(gp, layer, suffix: str):
+    """The layer an earlier run wrote ``layer``'s result to, in ``gp`` beside it (the same
+    name, the same layer group), or None."""
+    found = gp.layers.get(result_name(layer, suffix))
+    if found is None or found.id_data != gp or (
+            layer.id_data == gp and found.parent_group != layer.parent_group):
+        return None
+    return found
+
+
 def new_layer_like(gp, layer, suffix: str):
-    """A new layer named after ``layer``, placed and drawn as it is: the same transform
-    (so that its strokes land where the source's are), parent and look."""
-    new = gp.layers.new(layer.name + suffix, set_active=False)
+    """The layer for ``layer``'s result, named after it, placed and drawn as it is: the
+    same layer group (when in the same data), transform (so that its strokes land where
+    the source's are), parent and look. A re-run writes into its earlier result's layer
+    (:func:`write_frames` replaces the keyframes it writes) rather than stacking another."""
+    again = earlier_result(gp, layer, suffix)
+    if again is not None:
+        return again
+    group = layer.parent_group if layer.id_data == gp else None
+    new = gp.layers.new(result_name(layer, suffix), set_active=False, layer_group=group)
     new.translation, new.rotation, new.scale = layer.translation, layer.rotation, layer.scale
     for name in LOOK:
         setattr(new, name, getattr(layer, name))
     if layer.parent is not None:
         match_parent(new, layer)
     return new
+
+
+def keep_in_view(source, dest) -> None:
+    """Give ``dest`` (the result layer of a hidden source) a copy of each of the source's
+    keyframes it has no keyframe at, as drawn: a keyframe outside the frame range, or not
+    reached before a cancel, shows what it showed, never nothing nor a later result."""
+    have = {f.frame_number for f in dest.frames}
+    for frame in source.frames:
+        if frame.frame_number not in have:
+            write_strokes(dest.frames.new(frame.frame_number).drawing,
+                          NewStrokes.as_drawn(read_drawing(frame.drawing)))
 
 
 def write_fills(gp, results: list[DrawingResult]) -> dict:
@@ -602,6 +661,10 @@ def write_fills(gp, results: list[DrawingResult]) -> dict:
 def write_frames(dest, frames: list, new: NewStrokes) -> None:
     """New strokes on a layer at the keyframes of a source drawing: one drawing, shared by
     the keyframes that shared the source's."""
+    numbers = {f.frame_number for f in dest.frames}
+    for frame in frames:  # an earlier run's keyframes here are replaced
+        if frame.frame_number in numbers:
+            dest.frames.remove(frame.frame_number)
     first = frames[0].frame_number
     write_strokes(dest.frames.new(first).drawing, new)
     for frame in frames[1:]:

@@ -290,6 +290,49 @@ def test_pressing_again_on_the_hidden_source_says_it_was_simplified():
         bpy.ops.sketchsimp.simplify()
 
 
+def test_pressing_again_with_the_source_shown_replaces_the_earlier_result():
+    """Shown again and simplified again (at another epsilon), the source's result layer is
+    rewritten, not stacked under another, and is not taken for a source itself."""
+    ob = make_object({1: "house", 5: "cup"})
+    assert bpy.ops.sketchsimp.simplify(scope="ALL") == {"FINISHED"}
+    first = {f.frame_number: len(strokes_of(f.drawing))
+             for f in ob.data.layers["Lines simplified"].frames}
+    ob.data.layers["Lines"].hide = False
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", layers="VISIBLE", epsilon=0.0) == {
+        "FINISHED"}
+    assert [x.name for x in ob.data.layers] == ["Lines", "Lines simplified"]
+    again = ob.data.layers["Lines simplified"]
+    assert sorted(f.frame_number for f in again.frames) == [1, 5]
+    drawn = {f.frame_number: len(strokes_of(f.drawing)) for f in ob.data.layers["Lines"].frames}
+    # epsilon 0 gives each stroke back: the frames hold the new run's strokes only
+    assert {f.frame_number: len(strokes_of(f.drawing)) for f in again.frames} == drawn
+    assert all(first[k] < drawn[k] for k in first)
+    assert "the result of 'Lines'" in bpy.context.scene.sketchsimp.last_run
+
+
+def test_a_layer_in_a_group_gets_its_result_in_that_group_just_above_it():
+    ob = make_object({1: "house"})
+    gp = ob.data
+    group = gp.layer_groups.new("Characters")
+    below = gp.layers.new("Under", layer_group=group)
+    gp.layers.move_to_layer_group(gp.layers["Lines"], group)
+    gp.layers.new("On top", layer_group=group)
+    gp.layers.new("Root")
+    gp.layers.active = gp.layers["Lines"]
+    order = [x.name for x in gp.layers]
+    assert bpy.ops.sketchsimp.simplify(fill_regions=True) == {"FINISHED"}
+    dest = gp.layers["Lines simplified"]
+    assert dest.parent_group == group and gp.layers["Lines fills"].parent_group == group
+    names = [x.name for x in gp.layers]
+    at = names.index("Lines")
+    assert names[at:at + 3] == ["Lines", "Lines fills", "Lines simplified"], names
+    assert [n for n in names if n not in ("Lines fills", "Lines simplified")] == order
+    assert below.parent_group == group
+    group.hide = True  # hiding the group hides the result too
+    assert all(not x.parent_group or x.parent_group.hide for x in gp.layers
+               if x.name.startswith("Lines"))
+
+
 def test_the_new_layer_is_drawn_as_the_source_layer():
     ob = make_object({1: "house"})
     layer = ob.data.layers["Lines"]
@@ -329,6 +372,25 @@ def test_frame_range_simplifies_what_the_scene_shows():
     assert bpy.ops.sketchsimp.simplify(scope="RANGE", hide_source=False) == {"FINISHED"}
     assert sorted(f.frame_number for f in gp.layers["Lines simplified"].frames) == [20, 30]
     scene.use_preview_range = False
+
+
+def test_hide_source_with_a_frame_range_never_blanks_a_frame():
+    """Keyframes outside the range are shown on the result layer as drawn: at every frame
+    the result layer shows the keyframe the source showed (simplified inside the range,
+    as drawn outside it), never nothing and never a later keyframe's result."""
+    ob = make_object({1: "house", 10: "cup", 20: "fish", 30: "house"})
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end, scene.use_preview_range = 12, 25, False
+    assert bpy.ops.sketchsimp.simplify(scope="RANGE") == {"FINISHED"}
+    source, out = ob.data.layers["Lines"], ob.data.layers["Lines simplified"]
+    assert source.hide and not out.hide
+    for frame in range(1, 36):
+        assert out.get_frame_at(frame).frame_number == source.get_frame_at(frame).frame_number
+    drawn = {f.frame_number: len(strokes_of(f.drawing)) for f in source.frames}
+    shown = {f.frame_number: len(strokes_of(f.drawing)) for f in out.frames}
+    assert shown[1] == drawn[1] and shown[30] == drawn[30]  # outside: as drawn
+    assert shown[10] < drawn[10] and shown[20] < drawn[20]  # inside: simplified
+    scene.frame_start, scene.frame_end = 1, 250
 
 
 def fill_of(drawing, ob) -> list[tuple[int, str]]:
@@ -692,6 +754,33 @@ def test_taper_opacity_and_colour_follow_the_ink_along_each_stroke():
     assert is_red.all() or is_blue.all()  # one bundle: its main colour only
 
 
+def test_a_circle_drawn_half_red_half_blue_keeps_each_half_its_colour():
+    """Two arcs, red and blue, drawn on from each other into one circle: one stroke whose
+    knots are red over the red ink and blue over the blue, each a colour of the ink."""
+    ob = make_object({1: None})
+    t = np.linspace(-0.2, np.pi + 0.2, 80)
+    arcs = [np.stack([np.cos(t + k * np.pi), np.zeros_like(t), np.sin(t + k * np.pi)],
+                     axis=1).astype(np.float32) for k in range(2)]
+    drawing = ob.data.layers["Lines"].frames[0].drawing
+    fill_drawing(drawing, arcs)
+    red, blue = [0.9, 0.1, 0.1, 1.0], [0.1, 0.1, 0.9, 1.0]
+    colours = np.array([red] * 80 + [blue] * 80, np.float32)
+    drawing.attributes.new("vertex_color", "FLOAT_COLOR", "POINT").data.foreach_set(
+        "color", colours.ravel())
+    assert bpy.ops.sketchsimp.simplify() == {"FINISHED"}
+    out = ob.data.layers["Lines simplified"].frames[0].drawing
+    knots = strokes_of(out)
+    assert len(knots) == 1
+    got = point_values(out, "vertex_color", 4)[0]
+    is_red = np.abs(got - red).max(axis=1) < 1e-6
+    is_blue = np.abs(got - blue).max(axis=1) < 1e-6
+    assert (is_red | is_blue).all()
+    upper = knots[0][:, 2] > 0.3  # the red arc's side, away from where the two overlap
+    lower = knots[0][:, 2] < -0.3
+    assert upper.sum() >= 2 and lower.sum() >= 2
+    assert is_red[upper].all() and is_blue[lower].all()
+
+
 def test_a_cancelled_stepwise_run_writes_the_drawings_it_finished_and_nothing_else():
     """The modal operator's run, a drawing a step: cancelled after two of four keyframes,
     the two are written whole and the other two left as they were; run to the end, it
@@ -714,7 +803,14 @@ def test_a_cancelled_stepwise_run_writes_the_drawings_it_finished_and_nothing_el
     assert "cancelled: 2 of 4 drawing(s) done" in stepwise.report.message()
     run.write_results(ob, options, results, bpy.context)
     out = ob.data.layers["Lines simplified"]
-    assert sorted(f.frame_number for f in out.frames) == [1, 5]
+    # the source is hidden: the two not done are shown on the result layer as drawn
+    assert sorted(f.frame_number for f in out.frames) == [1, 5, 9, 13]
+    source = {f.frame_number: strokes_of(f.drawing) for f in ob.data.layers["Lines"].frames}
+    shown = {f.frame_number: strokes_of(f.drawing) for f in out.frames}
+    for k in (9, 13):
+        assert len(shown[k]) == len(source[k])
+        assert all(np.allclose(a, b) for a, b in zip(shown[k], source[k]))
+    assert len(shown[1]) < len(source[1]) and len(shown[5]) < len(source[5])
     assert {f.frame_number: snapshot(f.drawing)
             for f in ob.data.layers["Lines"].frames} == before
     whole = run.StepwiseRun(ob, options, SimplifyParams(), 1)
