@@ -542,7 +542,13 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
             done.add(r.layer.name)
             target = new_curve_object(f"{obj.name} {r.layer.name} simplified", obj,
                                       context.collection)
-            target.matrix_world = layer_to_world(obj, r.layer)
+            # parented as the layer's strokes move: with the layer's parent, or the object
+            # (and through it the object's own parents), placed where the ink is now
+            parent = r.layer.parent if r.layer.parent is not None else obj
+            world = layer_to_world(obj, r.layer)
+            target.parent = parent
+            target.matrix_parent_inverse = parent.matrix_world.inverted()
+            target.matrix_basis = world.copy()
             write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
                                  r.new.handles_right, list(r.new.cyclic), r.new.radius)
             slots = sorted(set(r.new.material_index.tolist())) or [0]

@@ -607,6 +607,12 @@ def test_grease_pencil_to_a_bezier_curve_object_that_renders_where_the_ink_is(pa
     pts = curve_points_world(out)
     assert abs(pts[:, 1] - ink_world[:, 1].mean()).max() < 1e-4
     assert shapely.distance(shapely.points(pts[:, [0, 2]]), ink_lines).max() < 6 * SCALE
+    # parented as the ink is: moving what the strokes follow moves the curve along
+    mover = layer.parent if parented else ob
+    assert out.parent == mover
+    mover.location = tuple(np.array(mover.location) + (0.0, 0.0, 2.5))
+    bpy.context.view_layer.update()
+    np.testing.assert_allclose(curve_points_world(out), pts + (0.0, 0.0, 2.5), atol=1e-5)
 
 
 def test_layers_in_hidden_or_locked_groups_are_left_alone():
