@@ -25,13 +25,14 @@ from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, f
 from .output.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier, subdivide_bezier
 from .parallel import default_jobs, simplify_all
 from .params import EPSILON_SOFT_MAX, PAPER_ALPHA, SimplifyParams
-from .replay_cache import ReplayCache
+from .replay_cache import COVERED_EPSILON, ReplayCache
 from .simplify import SimplifyResult, simplify
 from .sketch import Region, Sketch, SketchError, Stroke
 from .stable import held_to
 
 __all__ = [
-    "EPSILON_SOFT_MAX", "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex", "BaseComplexError",
+    "COVERED_EPSILON", "EPSILON_SOFT_MAX", "PAPER_ALPHA", "SAMPLES_PER_SEGMENT", "BaseComplex",
+    "BaseComplexError",
     "build_base_complex", "clean_sketch", "CleaningReport", "curve_descriptors", "default_jobs",
     "evaluate_bezier", "fd_distance", "fourier_descriptor", "fourier_descriptors", "held_to",
     "Normalisation", "normalised_strokes", "Patch", "read_sketch", "Region", "ReplayCache",

@@ -7,9 +7,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .params import SimplifyParams
 from .sketch import Region, Stroke
 
-__all__ = ["Simplified", "simplified"]
+__all__ = ["Recorded", "Simplified", "simplified"]
+
+
+@dataclass(frozen=True)
+class Recorded:
+    """What a run elsewhere sends back for replays at other epsilons: its resolved params,
+    its merge record and the epsilon that reaches (:func:`core.simplify.from_record`
+    rebuilds the result from them, exactly)."""
+
+    params: SimplifyParams
+    merges: tuple
+    covers: float
 
 
 @dataclass(frozen=True)
@@ -20,9 +32,13 @@ class Simplified:
     strokes: list[Stroke]
     regions: list[Region]
     width: float  #: the bundle width used, in the sketch's units (d_eps)
+    record: Recorded | None = None  #: when asked for: what replays need
 
 
-def simplified(result, regions: bool) -> Simplified:
-    """The plain data of a result that crosses back to the caller."""
+def simplified(result, regions: bool, record: bool = False) -> Simplified:
+    """The plain data of a result that crosses back to the caller (with its
+    :class:`Recorded` when ``record``)."""
     return Simplified(result.strokes, result.fill_regions() if regions else [],
-                      result.bundle_width)
+                      result.bundle_width,
+                      Recorded(result.params, tuple(result.record), result.covers)
+                      if record else None)

@@ -31,10 +31,12 @@ from .sketch import Sketch, SketchError
 __all__ = ["default_jobs", "simplify_all", "unique_sketches"]
 
 
-def _simplify_one(args: tuple[Sketch, SimplifyParams, bool]) -> Simplified | SketchError:
-    sketch, params, regions = args
+def _simplify_one(args: tuple[Sketch, SimplifyParams, bool, float | None]
+                  ) -> Simplified | SketchError:
+    sketch, params, regions, cover = args
     try:
-        return simplified(simplify(sketch, params), regions)
+        return simplified(simplify(sketch, params, cover=cover), regions,
+                          record=cover is not None)
     except SketchError as exc:
         return exc
 
@@ -108,8 +110,8 @@ def unique_sketches(sketches: list[Sketch]) -> tuple[list[int], list[int]]:
 
 def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
                  progress: Callable[[int, int, int], None] | None = None, regions: bool = False,
-                 scheduler: str | None = None, connect_timeout: float = 20.0
-                 ) -> list[Simplified | SketchError]:
+                 scheduler: str | None = None, connect_timeout: float = 20.0,
+                 cover: float | None = None) -> list[Simplified | SketchError]:
     """What each sketch simplifies into, in order (with its fill regions if ``regions``);
     a sketch that cannot be simplified gives its :class:`SketchError` in its place.
 
@@ -117,7 +119,8 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
     local processes; ``scheduler`` (``tcp://host:port``) a Dask cluster instead
     (:mod:`core.cluster`), waiting up to ``connect_timeout`` seconds for it.
     ``progress(done, total, k)`` is called as each distinct sketch finishes, ``k`` its
-    first index in ``sketches``.
+    first index in ``sketches``. ``cover`` (local runs): each merge loop runs on to it
+    and the result carries its :class:`~core.engine.Recorded`, for replays up to it.
     """
     if jobs < 1:
         raise SketchError(f"jobs must be at least 1, got {jobs}")
@@ -139,11 +142,11 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
                 finished(position[key], run.result(key))
     elif jobs == 1 or len(firsts) < 2:
         for u, k in enumerate(firsts):
-            finished(u, _simplify_one((sketches[k], params, regions)))
+            finished(u, _simplify_one((sketches[k], params, regions, cover)))
     else:
         context = multiprocessing.get_context("spawn")
         initializer, initargs = _worker_setup()
-        work = [(sketches[k], params, regions) for k in firsts]
+        work = [(sketches[k], params, regions, cover) for k in firsts]
         with _main_script_hidden(), ProcessPoolExecutor(
                 max_workers=min(jobs, len(work)), mp_context=context, initializer=initializer,
                 initargs=initargs) as pool:

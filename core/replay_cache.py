@@ -14,8 +14,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from .engine import Recorded
 from .params import EPSILON_SOFT_MAX, SimplifyParams
-from .simplify import SimplifyResult, simplify
+from .simplify import SimplifyResult, from_record, simplify
 from .sketch import Sketch, Stroke
 
 __all__ = ["COVERED_EPSILON", "ReplayCache", "sketch_digest"]
@@ -39,18 +40,54 @@ def sketch_digest(sketch: Sketch) -> str:
 
 
 class ReplayCache:
-    """The last few simplify results, by sketch and by every parameter but epsilon."""
+    """The last few simplify results, by sketch and by every parameter but epsilon, and
+    the merge records of the last many runs made elsewhere (a pool's workers).
 
-    def __init__(self, size: int = 8) -> None:
+    Memory: a result holds its base complex, its ink and its output (tens of MB for a
+    large drawing): ``size`` of them are kept. A record is the merges alone (about 1 KB a
+    merge with a merged curve's points, a few MB for the largest sketches): ``records`` of
+    them are kept, so that every drawing of a long shot replays (a redo panel's epsilon
+    step then costs, per drawing, the base complex built again, the replay and the output
+    stage; the merge loop is not run again)."""
+
+    def __init__(self, size: int = 8, records: int = 512) -> None:
         self.size = size
+        self.records = records
         self.runs = 0  # how many times simplify actually ran
         self._results: OrderedDict[tuple, SimplifyResult] = OrderedDict()
+        self._records: OrderedDict[tuple, Recorded] = OrderedDict()
+
+    @staticmethod
+    def _key(sketch: Sketch, params: SimplifyParams) -> tuple:
+        return (sketch_digest(sketch), replace(params, epsilon=0.0))
+
+    def remember(self, sketch: Sketch, params: SimplifyParams, recorded: Recorded) -> None:
+        """Keep the record of a run of ``sketch`` at ``params`` made elsewhere."""
+        key = self._key(sketch, params)
+        self._records[key] = recorded
+        self._records.move_to_end(key)
+        while len(self._records) > self.records:
+            self._records.popitem(last=False)
+
+    def covers(self, sketch: Sketch, params: SimplifyParams) -> bool:
+        """Whether ``params.epsilon`` replays from what is kept, without a run."""
+        key = self._key(sketch, params)
+        kept = self._results.get(key) or self._records.get(key)
+        return kept is not None and kept.covers >= params.epsilon
 
     def result(self, sketch: Sketch, params: SimplifyParams) -> SimplifyResult:
-        """The result ``simplify(sketch, params)`` gives, replayed from a cached run when
-        one covers ``params.epsilon``."""
-        key = (sketch_digest(sketch), replace(params, epsilon=0.0))
+        """The result ``simplify(sketch, params)`` gives, replayed from a cached run (or
+        rebuilt from a kept record) when one covers ``params.epsilon``."""
+        key = self._key(sketch, params)
         cached = self._results.get(key)
+        recorded = self._records.get(key)
+        if (cached is None or cached.covers < params.epsilon) and recorded is not None \
+                and recorded.covers >= params.epsilon:
+            cached = from_record(sketch, replace(recorded.params, epsilon=params.epsilon),
+                                 list(recorded.merges), recorded.covers)
+            self._results[key] = cached
+            while len(self._results) > self.size:
+                self._results.popitem(last=False)
         if cached is None or cached.covers < params.epsilon:
             self.runs += 1
             # the loop runs on to the cover, the output is made at the epsilon asked only

@@ -102,6 +102,11 @@ class SimplifyResult:
     _covers: float | None = field(default=None, repr=False)
 
     @property
+    def record(self) -> list[Merge]:
+        """Every merge the loop recorded, up to :attr:`covers` (what :meth:`at` replays)."""
+        return self.history if self._recorded is None else self._recorded
+
+    @property
     def covers(self) -> float:
         """The largest epsilon :meth:`at` can replay: ``params.epsilon``, or the ``cover``
         the merge loop ran on to."""
@@ -125,7 +130,7 @@ class SimplifyResult:
             raise SketchError(f"epsilon {epsilon} is outside 0..{self.covers}, the "
                               "range this result's merge history covers")
         t0 = time.perf_counter()
-        record = self.history if self._recorded is None else self._recorded
+        record = self.record
         state = _replayed(self.complex, record, replace(self.params, epsilon=epsilon))
         params = replace(self.params, epsilon=epsilon)
         timings = {"replay": time.perf_counter() - t0}
@@ -255,6 +260,31 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None,
     return result
 
 
+def from_record(sketch: Sketch, params: SimplifyParams, record: list[Merge],
+                covers: float) -> SimplifyResult:
+    """The result of an earlier run, rebuilt from its merge record without the merge
+    loop: the base complex built again (deterministically: the record's ids name the same
+    curves and patches) and the recorded merges cheaper than ``params.epsilon`` replayed;
+    what a fresh run gives, exactly. ``params`` are the run's resolved params (its
+    ``result.params``, alpha a number) at any epsilon up to ``covers``, the epsilon the
+    record reaches. A run in another process sends back its record (a few MB at most),
+    not its whole result."""
+    if not 0 <= params.epsilon <= covers:
+        raise SketchError(f"epsilon {params.epsilon} is outside 0..{covers}, the range "
+                          "this record covers")
+    t0 = time.perf_counter()
+    cleaned, report = clean_sketch(sketch)
+    unit, norm = normalised_strokes(cleaned)
+    cx = build_base_complex(unit)
+    ink = NearestInk(cleaned.strokes, unit)
+    state = _replayed(cx, record, params)
+    timings = {"rebuild": time.perf_counter() - t0}
+    out = _finish(cleaned, ink, report, norm, cx, state, record[:state.merges_applied], params,
+                  None, timings)
+    out._recorded, out._covers = list(record), covers
+    return out
+
+
 def _replayed(cx: BaseComplex, record: list[Merge], params: SimplifyParams) -> ComplexState:
     """The complex after the recorded merges a run at ``params.epsilon`` applies: those
     cheaper than it, up to the targets (the merge loop's own stopping rule)."""
@@ -311,4 +341,4 @@ def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float)
 
 
 __all__ = ["FILL_MIN_SHARE", "KEEP_EPSILON", "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE",
-           "SimplifyResult", "simplify"]
+           "SimplifyResult", "from_record", "simplify"]

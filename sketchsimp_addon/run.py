@@ -13,6 +13,7 @@ import bpy
 import numpy as np
 
 from ..core import (
+    COVERED_EPSILON,
     ReplayCache,
     SimplifyParams,
     Sketch,
@@ -433,10 +434,19 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             outputs.append(simplified_here(item.sketch, params, fills))
             if progress is not None:
                 progress((k + 1) / len(prepared))
-    else:
-        outputs = simplify_all([p.sketch for p in prepared], params, jobs,
-                               None if progress is None else lambda done, total, _k:
-                               progress(done / total), regions=fills)
+    else:  # a pool; what the cache covers (an epsilon step in the redo panel) replays here
+        todo = [k for k, p in enumerate(prepared) if not REPLAY.covers(p.sketch, params)]
+        pooled = simplify_all([prepared[k].sketch for k in todo], params, jobs,
+                              None if progress is None else lambda done, total, _k:
+                              progress(done / len(prepared)), regions=fills,
+                              cover=max(params.epsilon, COVERED_EPSILON)) if todo else []
+        outputs = [None] * len(prepared)
+        for k, out in zip(todo, pooled):
+            if not isinstance(out, SketchError) and out.record is not None:
+                REPLAY.remember(prepared[k].sketch, params, out.record)
+            outputs[k] = out
+        for k in sorted(set(range(len(prepared))) - set(todo)):
+            outputs[k] = simplified_here(prepared[k].sketch, params, fills)
     results = results_of(obj, options, gathered, outputs, report)
     report.seconds = time.perf_counter() - t0
     return report, results

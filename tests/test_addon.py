@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import bpy
 import numpy as np
 import pytest
@@ -850,6 +852,49 @@ def test_many_keyframes_go_through_the_process_pool():
     assert report.drawings == 5 and len(pooled) == 5
     for r in results:  # the same strokes, one process or several
         assert len(r.new.knots) == len(pooled[r.frames[0].frame_number])
+
+
+def test_an_epsilon_step_on_a_pooled_shot_replays_every_drawing(monkeypatch):
+    """Five keyframes go through the pool; the workers send back their merge records, so
+    that a new epsilon (the redo panel) replays each drawing here, with no merge loop run
+    again, and gives what a fresh run at that epsilon gives."""
+    from sketchsimp.core import ReplayCache, SimplifyParams
+    from sketchsimp.sketchsimp_addon import run
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())
+    samples = ["house", "cup", "fish", "house", "cup"]
+    keys = {1 + 4 * k: name for k, name in enumerate(samples)}
+    ob = make_object(keys)
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.02) == {"FINISHED"}
+    assert run.REPLAY.runs == 0  # all in the pool
+    clear_scene()
+    ob = make_object(keys)  # as after the redo panel's undo
+
+    def no_pool(*args, **kwargs):
+        raise AssertionError("the pool ran again")
+
+    monkeypatch.setattr(run, "simplify_all", no_pool)
+    t0 = time.perf_counter()
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.01) == {"FINISHED"}
+    replay_seconds = time.perf_counter() - t0
+    assert run.REPLAY.runs == 0  # replayed from the records: no merge loop here either
+    replayed = {f.frame_number: strokes_of(f.drawing)
+                for f in ob.data.layers["Lines simplified"].frames}
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())
+    clear_scene()
+    ob = make_object(keys)
+
+    class Options:
+        scope, layers, fill_regions, as_curve, stable = "ALL", "ACTIVE", False, False, True
+
+    t0 = time.perf_counter()
+    _, fresh = run.simplify_object(ob, Options, SimplifyParams(epsilon=0.01), 1, jobs=1)
+    fresh_seconds = time.perf_counter() - t0
+    assert run.REPLAY.runs == 3  # three distinct drawings run here afresh
+    for r in fresh:
+        got = replayed[r.frames[0].frame_number]
+        assert len(got) == len(r.new.knots)
+        assert all(np.allclose(a, b, atol=1e-5) for a, b in zip(got, r.new.knots))
+    print(f"epsilon step replayed in {replay_seconds:.2f} s, fresh {fresh_seconds:.2f} s")
 
 
 def test_nan_points_and_an_object_without_layers():

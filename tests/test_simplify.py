@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from hypothesis import strategies as st
 from metrics import changed, coverage, fidelity
 from test_base_complex import overshooting_side, short_crossing
 
-from core import Sketch, SketchError, Stroke, read_sketch, simplify, write_sketch
+from core import Sketch, SketchError, Stroke, read_sketch, simplify, simplify_all, write_sketch
 from core.arrays.geometry import lines_from
 from core.output.attributes import NearestInk
 from core.output.stroke_graph import Edge, build_graph
@@ -158,6 +159,28 @@ def test_a_run_covering_a_larger_epsilon_gives_the_epsilon_asked_and_replays_abo
             np.testing.assert_array_equal(x.bezier, y.bezier)
     with pytest.raises(SketchError, match="outside"):
         covered.at(0.06)
+
+
+def test_a_record_sent_back_by_a_worker_rebuilds_what_a_fresh_run_gives():
+    """simplify_all(cover=) returns each sketch's merge record (what a pool's worker sends
+    back); from_record rebuilds the result at any epsilon up to the cover, exactly."""
+    from core.simplify import from_record
+
+    sketch = read_sketch(SAMPLES / "cup.scap")
+    [out] = simplify_all([sketch], SimplifyParams(epsilon=0.015), cover=0.05)
+    recorded = out.record
+    assert recorded is not None and recorded.covers == 0.05
+    for eps in (0.005, 0.015, 0.04):
+        got = from_record(sketch, replace(recorded.params, epsilon=eps),
+                          list(recorded.merges), recorded.covers)
+        fresh = simplify(sketch, SimplifyParams(epsilon=eps))
+        assert [m.cost for m in got.history] == [m.cost for m in fresh.history]
+        assert len(got.strokes) == len(fresh.strokes)
+        for x, y in zip(got.strokes, fresh.strokes):
+            np.testing.assert_array_equal(x.bezier, y.bezier)
+    with pytest.raises(SketchError, match="outside"):
+        from_record(sketch, replace(recorded.params, epsilon=0.06), list(recorded.merges),
+                    recorded.covers)
 
 
 def test_raising_epsilon_never_increases_the_primitives():
