@@ -6,9 +6,10 @@ Each sketch of ``../shared/data`` (every ``--step``-th) is drawn into a Grease P
 layer; then, interleaved (best of two each): ``core.simplify`` of the same strokes, and
 the operator on a fresh replay cache (a first press, as a user makes it: the merge loop run
 on to the slider's top, the output made at the epsilon asked). Printed: each sketch's
-ratio, their median (target: at most 1.15), and a ``--big``-stroke synthetic drawing's
-two times and the operator process's peak memory (target: within 1.5 times the core's
-time, under 1 GB), against the machine's pace.
+ratio, their median (target: at most 1.15); a ``--shot``-keyframe shot's first press and
+an epsilon step in the redo panel; and a ``--big``-stroke synthetic drawing's two times
+and the operator process's peak memory (target: within 1.5 times the core's time, under
+1 GB), against the machine's pace.
 """
 
 from __future__ import annotations
@@ -86,10 +87,40 @@ def big(n: int) -> None:
           f"target < 1024 MB)", flush=True)
 
 
+def shot(files: list[Path], n: int) -> None:
+    """A shot of ``n`` keyframes, each a different sketch: the first press (All
+    Keyframes), then an epsilon step as the redo panel makes it (undo, press again)."""
+    sketches = [[s.points for s in read_sketch(f).strokes] for f in files[:n]]
+
+    def build():
+        ob = drawn(sketches[0])
+        layer = ob.data.layers["Lines"]
+        for k, strokes in enumerate(sketches[1:], start=1):
+            fill_drawing(layer.frames.new(1 + 4 * k).drawing, [
+                np.stack([p[:, 0] * 0.01, np.zeros(len(p)), -p[:, 1] * 0.01], axis=1)
+                .astype(np.float32) for p in strokes])
+        return ob
+
+    addon_run.REPLAY._results.clear()
+    if hasattr(addon_run.REPLAY, "_records"):  # (an older tree, compared, has none)
+        addon_run.REPLAY._records.clear()
+    build()
+    t0 = time.perf_counter()
+    bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=EPSILON)
+    first = time.perf_counter() - t0
+    build()
+    t0 = time.perf_counter()
+    bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.8 * EPSILON)
+    step = time.perf_counter() - t0
+    print(f"a shot of {len(sketches)} keyframes: first press {first:.1f} s, an epsilon step "
+          f"{step:.1f} s ({step / first:.2f} of it)", flush=True)
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--step", type=int, default=6, help="every n-th sketch of the data")
+    p.add_argument("--step", type=int, default=6, help="every n-th sketch of the data (0: none)")
     p.add_argument("--big", type=int, default=5000, help="strokes of the big drawing (0: none)")
+    p.add_argument("--shot", type=int, default=13, help="keyframes of the shot (0: none)")
     p.add_argument("--only-big", type=int, help=argparse.SUPPRESS)
     args = p.parse_args()
     EXTENSION.register()
@@ -105,8 +136,9 @@ def run(args) -> int:
         return 0
     pace = machine_pace()
     print(f"machine pace: {pace:.2f} s for a Python loop of 3,000,000 additions")
-    files = sorted(f for f in DATA.rglob("*.scap") if f.name != "full_fit.scap")[::args.step]
-    if not files:
+    files = sorted(f for f in DATA.rglob("*.scap")
+                   if f.name != "full_fit.scap")[::args.step] if args.step > 0 else []
+    if args.step > 0 and not files:
         print(f"no sketches under {DATA}: only the big drawing")
     ratios = []
     for f in files:
@@ -119,6 +151,9 @@ def run(args) -> int:
     if ratios:
         print(f"operator / core, median over {len(ratios)} sketches: "
               f"{float(np.median(ratios)):.2f}x (target <= 1.15x), worst {max(ratios):.2f}x")
+    if args.shot:
+        every = sorted(f for f in DATA.rglob("*.scap") if f.name != "full_fit.scap")
+        shot(every[::max(1, len(every) // args.shot)], args.shot)
     if args.big:  # a process of its own, so that its peak is the big drawing's
         subprocess.run([sys.executable, __file__, "--only-big", str(args.big)], check=True)
     print(f"machine pace after: {machine_pace():.2f} s")
