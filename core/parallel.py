@@ -20,21 +20,26 @@ import sys
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 
-from .engine import Simplified, simplified
+from .engine import Recorded, Simplified, simplified
 from .params import SimplifyParams
 from .replay_cache import sketch_digest
-from .simplify import simplify
+from .simplify import from_record, simplify
 from .sketch import Sketch, SketchError
 
 __all__ = ["default_jobs", "simplify_all", "unique_sketches"]
 
 
-def _simplify_one(args: tuple[Sketch, SimplifyParams, bool, float | None]
+def _simplify_one(args: tuple[Sketch, SimplifyParams, bool, float | None, Recorded | None]
                   ) -> Simplified | SketchError:
-    sketch, params, regions, cover = args
+    sketch, params, regions, cover, recorded = args
     try:
+        if recorded is not None:  # rebuilt from its merge record: no merge loop
+            return simplified(from_record(sketch, replace(recorded.params,
+                                                          epsilon=params.epsilon),
+                                          list(recorded.merges), recorded.covers), regions)
         return simplified(simplify(sketch, params, cover=cover), regions,
                           record=cover is not None)
     except SketchError as exc:
@@ -111,7 +116,8 @@ def unique_sketches(sketches: list[Sketch]) -> tuple[list[int], list[int]]:
 def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
                  progress: Callable[[int, int, int], None] | None = None, regions: bool = False,
                  scheduler: str | None = None, connect_timeout: float = 20.0,
-                 cover: float | None = None) -> list[Simplified | SketchError]:
+                 cover: float | None = None, records: list[Recorded | None] | None = None
+                 ) -> list[Simplified | SketchError]:
     """What each sketch simplifies into, in order (with its fill regions if ``regions``);
     a sketch that cannot be simplified gives its :class:`SketchError` in its place.
 
@@ -121,6 +127,8 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
     ``progress(done, total, k)`` is called as each distinct sketch finishes, ``k`` its
     first index in ``sketches``. ``cover`` (local runs): each merge loop runs on to it
     and the result carries its :class:`~core.engine.Recorded`, for replays up to it.
+    ``records`` (local runs), one or None per sketch: a sketch with one is rebuilt from it
+    (:func:`core.simplify.from_record`) rather than run.
     """
     if jobs < 1:
         raise SketchError(f"jobs must be at least 1, got {jobs}")
@@ -142,11 +150,13 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
                 finished(position[key], run.result(key))
     elif jobs == 1 or len(firsts) < 2:
         for u, k in enumerate(firsts):
-            finished(u, _simplify_one((sketches[k], params, regions, cover)))
+            finished(u, _simplify_one((sketches[k], params, regions, cover,
+                                       records[k] if records else None)))
     else:
         context = multiprocessing.get_context("spawn")
         initializer, initargs = _worker_setup()
-        work = [(sketches[k], params, regions, cover) for k in firsts]
+        work = [(sketches[k], params, regions, cover, records[k] if records else None)
+                for k in firsts]
         with _main_script_hidden(), ProcessPoolExecutor(
                 max_workers=min(jobs, len(work)), mp_context=context, initializer=initializer,
                 initargs=initargs) as pool:

@@ -1,9 +1,11 @@
 """Results kept to be replayed at other epsilons: what makes a slider (Blender's redo
 panel re-running the operator on every change) cheap.
 
-A sketch's merge loop runs once on to a generous epsilon (``simplify(..., cover=)``), the
-output made at the epsilon asked only; any epsilon up to the cover is then the replay of a
-prefix of its merge history (``SimplifyResult.at``), which equals a fresh run exactly.
+A sketch is simplified at the epsilon asked, and any smaller epsilon is then the replay of
+a prefix of its merge history (``SimplifyResult.at``), which equals a fresh run exactly;
+asked for a larger one, it runs once more, its merge loop on to the slider's top
+(``simplify(..., cover=)``, the output made at the epsilon asked only), and every epsilon
+of the slider replays from then on.
 """
 
 from __future__ import annotations
@@ -21,10 +23,10 @@ from .sketch import Sketch, Stroke
 
 __all__ = ["COVERED_EPSILON", "ReplayCache", "sketch_digest"]
 
-#: the epsilon a cached run covers at least: the whole slider. A run to 0.06 costs what a
-#: run to 0.015 does (2.48 against 2.69 s on a 353-stroke sketch, 0.64 against 0.68 s on
-#: grandpa: the first costing of every pair dominates), and with 0.03 every slider step
-#: above it ran from scratch (30 s on a 5,000-stroke drawing)
+#: the epsilon a run asked for above what is kept covers: the whole slider, so that only
+#: the first step up runs again (with 0.03, every step above it ran from scratch: 30 s on
+#: a 5,000-stroke drawing). A first run covers only its own epsilon: taken to 0.06 it
+#: cost 1.26 times the core's run in Blender (docs/decisions.md)
 COVERED_EPSILON = EPSILON_SOFT_MAX
 
 
@@ -69,11 +71,25 @@ class ReplayCache:
         while len(self._records) > self.records:
             self._records.popitem(last=False)
 
-    def covers(self, sketch: Sketch, params: SimplifyParams) -> bool:
-        """Whether ``params.epsilon`` replays from what is kept, without a run."""
+    def cover(self, sketch: Sketch, params: SimplifyParams) -> float:
+        """How far a run of ``sketch`` at ``params`` should take its merge loop: the
+        epsilon asked, the first time (a first press costs what the core does; a smaller
+        epsilon then replays); the slider's top once an epsilon above what is kept is
+        asked for (so that it runs again once, not at every step up)."""
         key = self._key(sketch, params)
-        kept = self._results.get(key) or self._records.get(key)
+        seen = key in self._results or key in self._records
+        return max(params.epsilon, COVERED_EPSILON) if seen else params.epsilon
+
+    def has_result(self, sketch: Sketch, params: SimplifyParams) -> bool:
+        """Whether a kept result replays ``params.epsilon`` (here, cheaply)."""
+        kept = self._results.get(self._key(sketch, params))
         return kept is not None and kept.covers >= params.epsilon
+
+    def recorded(self, sketch: Sketch, params: SimplifyParams) -> Recorded | None:
+        """The kept record that rebuilds ``params.epsilon`` (anywhere: a pool's worker
+        too, :func:`core.parallel.simplify_all`'s ``records``), or None."""
+        kept = self._records.get(self._key(sketch, params))
+        return kept if kept is not None and kept.covers >= params.epsilon else None
 
     def result(self, sketch: Sketch, params: SimplifyParams) -> SimplifyResult:
         """The result ``simplify(sketch, params)`` gives, replayed from a cached run (or
@@ -90,8 +106,7 @@ class ReplayCache:
                 self._results.popitem(last=False)
         if cached is None or cached.covers < params.epsilon:
             self.runs += 1
-            # the loop runs on to the cover, the output is made at the epsilon asked only
-            cached = simplify(sketch, params, cover=max(params.epsilon, COVERED_EPSILON))
+            cached = simplify(sketch, params, cover=self.cover(sketch, params))
             self._results[key] = cached
             while len(self._results) > self.size:
                 self._results.popitem(last=False)

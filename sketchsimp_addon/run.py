@@ -13,7 +13,6 @@ import bpy
 import numpy as np
 
 from ..core import (
-    COVERED_EPSILON,
     ReplayCache,
     SimplifyParams,
     Sketch,
@@ -434,12 +433,16 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             outputs.append(simplified_here(item.sketch, params, fills))
             if progress is not None:
                 progress((k + 1) / len(prepared))
-    else:  # a pool; what the cache covers (an epsilon step in the redo panel) replays here
-        todo = [k for k, p in enumerate(prepared) if not REPLAY.covers(p.sketch, params)]
+    else:  # a pool; an epsilon step in the redo panel replays kept results here, and
+        # rebuilds the drawings whose merge records are kept, in the pool
+        todo = [k for k, p in enumerate(prepared) if not REPLAY.has_result(p.sketch, params)]
         pooled = simplify_all([prepared[k].sketch for k in todo], params, jobs,
                               None if progress is None else lambda done, total, _k:
                               progress(done / len(prepared)), regions=fills,
-                              cover=max(params.epsilon, COVERED_EPSILON)) if todo else []
+                              cover=max(REPLAY.cover(prepared[k].sketch, params)
+                                        for k in todo),
+                              records=[REPLAY.recorded(prepared[k].sketch, params)
+                                       for k in todo]) if todo else []
         outputs = [None] * len(prepared)
         for k, out in zip(todo, pooled):
             if not isinstance(out, SketchError) and out.record is not None:

@@ -856,8 +856,8 @@ def test_many_keyframes_go_through_the_process_pool():
 
 def test_an_epsilon_step_on_a_pooled_shot_replays_every_drawing(monkeypatch):
     """Five keyframes go through the pool; the workers send back their merge records, so
-    that a new epsilon (the redo panel) replays each drawing here, with no merge loop run
-    again, and gives what a fresh run at that epsilon gives."""
+    that a new epsilon (the redo panel) rebuilds each drawing from its record (in the
+    pool: no merge loop run again), and gives what a fresh run at that epsilon gives."""
     from sketchsimp.core import ReplayCache, SimplifyParams
     from sketchsimp.sketchsimp_addon import run
     monkeypatch.setattr(run, "REPLAY", ReplayCache())
@@ -869,14 +869,19 @@ def test_an_epsilon_step_on_a_pooled_shot_replays_every_drawing(monkeypatch):
     clear_scene()
     ob = make_object(keys)  # as after the redo panel's undo
 
-    def no_pool(*args, **kwargs):
-        raise AssertionError("the pool ran again")
+    pool = run.simplify_all
+    sent = []
 
-    monkeypatch.setattr(run, "simplify_all", no_pool)
+    def records_only(sketches, *args, records=None, **kwargs):
+        sent.append(records)
+        return pool(sketches, *args, records=records, **kwargs)
+
+    monkeypatch.setattr(run, "simplify_all", records_only)
     t0 = time.perf_counter()
     assert bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.01) == {"FINISHED"}
     replay_seconds = time.perf_counter() - t0
-    assert run.REPLAY.runs == 0  # replayed from the records: no merge loop here either
+    assert run.REPLAY.runs == 0  # nothing run here
+    assert len(sent) == 1 and len(sent[0]) == 5 and all(r is not None for r in sent[0])
     replayed = {f.frame_number: strokes_of(f.drawing)
                 for f in ob.data.layers["Lines simplified"].frames}
     monkeypatch.setattr(run, "REPLAY", ReplayCache())
@@ -931,11 +936,15 @@ def test_a_new_epsilon_in_the_redo_panel_is_a_replay(monkeypatch):
     assert bpy.ops.sketchsimp.simplify(epsilon=0.01, output="REPLACE") == {"FINISHED"}
     assert run.REPLAY.runs == runs + 1  # the second epsilon was replayed, not re-run
     replayed = strokes_of(ob.data.layers["Lines"].frames[0].drawing)
-    clear_scene()  # the top of the slider replays too: the first run covered it all
+    clear_scene()  # above the first epsilon: one run more, on to the slider's top ...
     ob = make_object({1: "fish"})
-    assert bpy.ops.sketchsimp.simplify(epsilon=EPSILON_SOFT_MAX, output="REPLACE") == {
-        "FINISHED"}
-    assert run.REPLAY.runs == runs + 1
+    assert bpy.ops.sketchsimp.simplify(epsilon=0.03, output="REPLACE") == {"FINISHED"}
+    assert run.REPLAY.runs == runs + 2
+    for eps in (EPSILON_SOFT_MAX, 0.045, 0.005):  # ... and every epsilon replays from then
+        clear_scene()
+        ob = make_object({1: "fish"})
+        assert bpy.ops.sketchsimp.simplify(epsilon=eps, output="REPLACE") == {"FINISHED"}
+    assert run.REPLAY.runs == runs + 2
     monkeypatch.setattr(run, "REPLAY", ReplayCache())  # the replayed epsilon, run afresh
     clear_scene()
     ob = make_object({1: "fish"})

@@ -181,6 +181,13 @@ def test_a_record_sent_back_by_a_worker_rebuilds_what_a_fresh_run_gives():
     with pytest.raises(SketchError, match="outside"):
         from_record(sketch, replace(recorded.params, epsilon=0.06), list(recorded.merges),
                     recorded.covers)
+    # in a pool, a sketch given its record is rebuilt from it, the same as fresh
+    house = read_sketch(SAMPLES / "house.scap")
+    pooled = simplify_all([sketch, house], SimplifyParams(epsilon=0.03), jobs=2,
+                          records=[recorded, None])
+    for out, drawn in zip(pooled, (sketch, house)):
+        fresh = simplify(drawn, SimplifyParams(epsilon=0.03)).strokes
+        assert [s.bezier.tolist() for s in out.strokes] == [s.bezier.tolist() for s in fresh]
 
 
 def test_raising_epsilon_never_increases_the_primitives():
@@ -390,18 +397,18 @@ def test_replay_cache_gives_fresh_results_and_runs_once():
     from core.replay_cache import ReplayCache
     sketch = read_sketch(SAMPLES / "cup.scap")
     cache = ReplayCache()
-    for eps in (0.015, 0.005, 0.02, 0.0):
+    # below the first epsilon, replays; the first step above runs once more, on to the
+    # slider's top; every epsilon of the slider replays from then on
+    for eps, runs in zip((0.015, 0.005, 0.0, 0.02, EPSILON_SOFT_MAX, 0.01), (1, 1, 1, 2, 2, 2)):
         got = cache.strokes(sketch, SimplifyParams(epsilon=eps))
         fresh = simplify(sketch, SimplifyParams(epsilon=eps)).strokes
         assert len(got) == len(fresh)
         for a, b in zip(got, fresh):
             np.testing.assert_array_equal(a.bezier, b.bezier)
-    assert cache.runs == 1  # every epsilon of the slider replayed from one run
-    cache.strokes(sketch, SimplifyParams(epsilon=EPSILON_SOFT_MAX))
-    assert cache.runs == 1
+        assert cache.runs == runs, eps
     cache.strokes(sketch, SimplifyParams(epsilon=0.08))
     cache.strokes(sketch, SimplifyParams(epsilon=0.015, alpha=0.02))
-    assert cache.runs == 3  # beyond what the run covered, and other parameters
+    assert cache.runs == 4  # beyond what the runs covered, and other parameters
 
 
 def _moved(a: list[Stroke], b: list[Stroke], size: float) -> float:
