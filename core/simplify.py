@@ -140,14 +140,21 @@ class SimplifyResult:
         return out
 
     def fill_regions(self, min_share: float = FILL_MIN_SHARE) -> list[Region]:
-        """The closed regions of the simplified drawing as plain rings (input coordinates),
-        largest first, leaving out slivers smaller than ``min_share`` of the area of the
-        drawing's box: what a fill is drawn from. A region inside another is the other's
-        hole and a region of its own, after it (so that a fill drawn in this order, holes
-        cut out, leaves the inner fill whole)."""
+        """The closed regions of the simplified drawing to fill, as plain rings (input
+        coordinates), largest first, leaving out slivers smaller than ``min_share`` of the
+        area of the drawing's box. A region lying inside another (touching it nowhere) is a
+        hole of it, and is filled only inside a hole in turn (the even-odd rule of vector
+        art: a ring's hole stays empty, a face's eyes are cut out of it, a pupil inside
+        an eye is filled); regions side by side are each filled."""
         smallest = min_share * 0.5 * self.normalisation.scale ** 2  # box of diagonal D
         parts = [part for poly in self.regions() for part in shapely.get_parts(poly)
                  if part.area >= smallest]
+        if parts:  # how many other regions' outlines enclose each: odd, a hole
+            outlines = np.array([shapely.Polygon(part.exterior) for part in parts])
+            inside, around = shapely.STRtree(outlines).query(
+                shapely.point_on_surface(np.array(parts)), predicate="within")
+            depth = np.bincount(inside[inside != around], minlength=len(parts))
+            parts = [part for part, d in zip(parts, depth.tolist()) if d % 2 == 0]
         parts.sort(key=lambda part: -part.area)
 
         def ring(r) -> np.ndarray:

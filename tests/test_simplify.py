@@ -794,8 +794,32 @@ def test_a_square_inside_a_square_is_a_hole_of_its_region():
     result = simplify(Sketch(square(0.0, 1.0) + square(0.35, 0.65)))
     areas = sorted(round(r.area, 3) for r in result.regions())
     assert areas == [0.09, 0.91]  # the ring has the inner square cut out
-    ring, inner = result.fill_regions()
-    assert len(ring.holes) == 1 and not inner.holes
+    [ring] = result.fill_regions()  # the inner square is the ring's hole: left empty
+    assert len(ring.holes) == 1
+
+
+def test_fills_follow_the_even_odd_rule_on_known_shapes():
+    """A ring's hole stays empty; an eye's pupil inside a face's hole is filled; the two
+    loops of a figure-eight, side by side, are both filled."""
+    t = np.linspace(0, 2 * np.pi, 80)
+
+    def circle(r: float) -> np.ndarray:
+        return np.stack([100 + r * np.cos(t), 100 + r * np.sin(t)], axis=1)
+
+    def filled(strokes: list[np.ndarray]) -> list[tuple[float, int]]:
+        """(area of the outline, holes) of each region to fill."""
+        regions = simplify(Sketch([Stroke(p) for p in strokes])).fill_regions()
+        return [(float(shapely.Polygon(r.outline).area), len(r.holes)) for r in regions]
+
+    [(area, holes)] = filled([circle(50), circle(25)])  # the outer circle, with its hole
+    assert holes == 1 and area == pytest.approx(np.pi * 50 ** 2, rel=0.02)
+    face = filled([circle(80), circle(40), circle(15)])
+    assert [h for _, h in face] == [1, 0]
+    assert face[1][0] == pytest.approx(np.pi * 15 ** 2, rel=0.02)  # the pupil
+    eight = np.stack([100 + 60 * np.sin(t), 100 + 40 * np.sin(2 * t)], axis=1)
+    loops = filled([eight])
+    assert len(loops) == 2 and [h for _, h in loops] == [0, 0]
+    assert loops[0][0] == pytest.approx(loops[1][0], rel=0.02)
 
 
 def test_jittered_copies_held_to_each_other_keep_their_strokes():
