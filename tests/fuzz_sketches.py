@@ -124,11 +124,12 @@ KINDS = {
 }
 
 
-def fuzz_settings(examples: int) -> settings:
+def fuzz_settings(examples: int, derandomize: bool = False) -> settings:
     """How the fuzzers run: no deadline (the long stroke takes seconds), no example
-    database (each run draws afresh), no health check against slow or filtered data."""
+    database (each run draws afresh, unless ``derandomize``: the same examples every
+    run), no health check against slow or filtered data."""
     return settings(max_examples=examples, deadline=None, database=None,
-                    suppress_health_check=list(HealthCheck))
+                    suppress_health_check=list(HealthCheck), derandomize=derandomize)
 
 
 def check_complex(cx: BaseComplex) -> None:
