@@ -101,16 +101,13 @@ class ReplayCache:
                 and recorded.covers >= params.epsilon:
             cached = from_record(sketch, replace(recorded.params, epsilon=params.epsilon),
                                  list(recorded.merges), recorded.covers)
-            self._results[key] = cached
-            while len(self._results) > self.size:
-                self._results.popitem(last=False)
-        if cached is None or cached.covers < params.epsilon:
+        elif cached is None or cached.covers < params.epsilon:
             self.runs += 1
             cached = simplify(sketch, params, cover=self.cover(sketch, params))
-            self._results[key] = cached
-            while len(self._results) > self.size:
-                self._results.popitem(last=False)
+        self._results[key] = cached
         self._results.move_to_end(key)
+        while len(self._results) > self.size:
+            self._results.popitem(last=False)
         return cached if cached.params.epsilon == params.epsilon else cached.at(params.epsilon)
 
     def strokes(self, sketch: Sketch, params: SimplifyParams) -> list[Stroke]:

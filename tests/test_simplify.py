@@ -142,6 +142,16 @@ def test_at_epsilon_zero_every_stroke_comes_back_whole_as_drawn(lines):
             assert np.allclose(back.points[[0, -1]], drawn.points[[0, -1]], atol=1e-6)
 
 
+def assert_as_fresh(got, sketch: Sketch, epsilon: float) -> None:
+    """``got`` (a replay, a covered run, a rebuild) is what a fresh run at ``epsilon``
+    gives: the same merges, and the same strokes to the bit."""
+    fresh = simplify(sketch, SimplifyParams(epsilon=epsilon))
+    assert [m.cost for m in got.history] == [m.cost for m in fresh.history]
+    assert len(got.strokes) == len(fresh.strokes)
+    for x, y in zip(got.strokes, fresh.strokes):
+        np.testing.assert_array_equal(x.bezier, y.bezier)
+
+
 @pytest.mark.parametrize("sample", ["house", "cup"])
 def test_a_run_covering_a_larger_epsilon_gives_the_epsilon_asked_and_replays_above_it(sample):
     """cover runs the merge loop on (for a slider) but makes the output at epsilon only:
@@ -152,11 +162,7 @@ def test_a_run_covering_a_larger_epsilon_gives_the_epsilon_asked_and_replays_abo
     assert covered.covers == 0.05 and covered.params.epsilon == 0.015
     for got, eps in ((covered, 0.015), (covered.at(0.04), 0.04), (covered.at(0.04).at(0.01),
                                                                     0.01)):
-        fresh = simplify(sketch, SimplifyParams(epsilon=eps))
-        assert [m.cost for m in got.history] == [m.cost for m in fresh.history]
-        assert len(got.strokes) == len(fresh.strokes)
-        for x, y in zip(got.strokes, fresh.strokes):
-            np.testing.assert_array_equal(x.bezier, y.bezier)
+        assert_as_fresh(got, sketch, eps)
     with pytest.raises(SketchError, match="outside"):
         covered.at(0.06)
 
@@ -173,11 +179,7 @@ def test_a_record_sent_back_by_a_worker_rebuilds_what_a_fresh_run_gives():
     for eps in (0.005, 0.015, 0.04):
         got = from_record(sketch, replace(recorded.params, epsilon=eps),
                           list(recorded.merges), recorded.covers)
-        fresh = simplify(sketch, SimplifyParams(epsilon=eps))
-        assert [m.cost for m in got.history] == [m.cost for m in fresh.history]
-        assert len(got.strokes) == len(fresh.strokes)
-        for x, y in zip(got.strokes, fresh.strokes):
-            np.testing.assert_array_equal(x.bezier, y.bezier)
+        assert_as_fresh(got, sketch, eps)
     with pytest.raises(SketchError, match="outside"):
         from_record(sketch, replace(recorded.params, epsilon=0.06), list(recorded.merges),
                     recorded.covers)
@@ -205,11 +207,7 @@ def test_result_at_equals_a_fresh_run(sample):
     sketch = read_sketch(SAMPLES / f"{sample}.scap")
     full = simplify(sketch, SimplifyParams(epsilon=0.05))
     for eps in (0.002, 0.008, 0.015):
-        replayed, fresh = full.at(eps), simplify(sketch, SimplifyParams(epsilon=eps))
-        assert [m.cost for m in replayed.history] == [m.cost for m in fresh.history]
-        assert len(replayed.strokes) == len(fresh.strokes)
-        for x, y in zip(replayed.strokes, fresh.strokes):
-            np.testing.assert_array_equal(x.bezier, y.bezier)
+        assert_as_fresh(full.at(eps), sketch, eps)
     # the replays shared the output stage's work with the first run (and equal fresh runs)
     assert full._memo.fits and full._memo.pairs
     with pytest.raises(SketchError, match="outside"):
