@@ -87,6 +87,12 @@ class Tuning:
     along_share     pass 5 joins two fitted lines when this share of the shorter lies
                     within d_eps of the longer, running along it (doubled passes the
                     merges left apart), where no clear band lies between their inks
+    join_reach      lines pass 5 pairs are joined only where the joint fit keeps each of
+                    them in place: join_share of each within this of the joint line; 0.5:
+                    whole lines are judged within about half a bundle width, and two lines
+                    drawn close (a rim's nested ellipses, a box's doubled edge) would both
+                    move to a line between them
+    join_share      see join_reach; 0.6: a loose pass's ends may leave the joint line
     bin             the centreline is fitted in bins this long along its spine ...
     smooth          ... and its offsets smoothed by a Gaussian of this sigma
     snap            an end within this of another line meets it (T and L junctions)
@@ -116,6 +122,8 @@ class Tuning:
     member_share: float = 0.5
     member_reach: float = 1.5
     along_share: float = 0.6
+    join_reach: float = 0.5
+    join_share: float = 0.6
     bin: float = 0.25
     smooth: float = 0.5
     snap: float = 1.0

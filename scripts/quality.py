@@ -2,7 +2,8 @@
 issue, per source, with the five worst sketches of each, and far-ink invariance.
 
     python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
-                              [--data DIR]
+                              [--data DIR] [--lines STAGE] [--skip PASS,...]
+                              [--tuning NAME=VALUE,...]
     python scripts/quality.py --compare BEFORE.json AFTER.json [--pictures DIR --before-root
                               TREE]
 
@@ -16,7 +17,8 @@ listed with it: where too_wide is above that share too, ink kept and no doubled 
 both hold, and no width of bundle settles it. ``--root``
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
-``--data`` scores another folder of .scap sketches laid out as ``../shared/data`` (a source
+``--skip`` leaves pen passes out and ``--tuning`` changes the pen's tuned constants
+(``core.params.Tuning``), for ablations scored by the same scorer. ``--data`` scores another folder of .scap sketches laid out as ``../shared/data`` (a source
 folder each, a lift3d reference ``full_fit.scap`` beside its sketch), for example sketches held
 out from tuning; the folder is recorded in OUT.json for ``--pictures``.
 
@@ -212,6 +214,10 @@ def main(argv: list[str] | None = None) -> int:
                     help="folder of sketches to score, laid out as ../shared/data")
     ap.add_argument("--lines", help="the output stage (SimplifyParams.lines); default the "
                     "checkout's own")
+    ap.add_argument("--skip", default="", help="pen passes to leave out, comma-separated "
+                    "(an ablation)")
+    ap.add_argument("--tuning", default="", help="pen tuning to change, as name=value,... "
+                    "(core.params.Tuning)")
     ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--pictures", type=Path, help="with --compare: draw the worst here")
     ap.add_argument("--before-root", help="with --pictures: the checkout of BEFORE")
@@ -234,6 +240,11 @@ def main(argv: list[str] | None = None) -> int:
     root = str(Path(args.root).resolve())
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
         options = {"lines": args.lines} if args.lines else {}
+        if args.skip:
+            options["skip"] = tuple(args.skip.split(","))
+        if args.tuning:
+            options["tuning"] = {k: float(v) for k, v in
+                                 (item.split("=") for item in args.tuning.split(","))}
         rows = dict(pool.map(score_one, [(root, str(data), f, args.svg, options)
                                          for f in files]))
         far = [str(data / p) for p in FAR_INK if (data / p).exists() and args.only in p]

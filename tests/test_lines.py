@@ -3,12 +3,16 @@ drawings made here (the issue's), the replay, epsilon 0, and the passes' loop.""
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 import shapely
-from helpers import SAMPLES
+from helpers import DATA, SAMPLES, require_data
+from metrics import whole_lines
 
 from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
+from core.arrays.geometry import project_on
 from core.lines import PASSES, lines_from_pen
 from core.sketch import SketchError
 
@@ -184,3 +188,47 @@ def test_params_with_the_pen_stage_travel_as_plain_data_and_come_back_equal():
     assert SimplifyParams(**json.loads(json.dumps(params.as_dict()))) == params
     with pytest.raises(SketchError, match="unknown tuning"):
         SimplifyParams(tuning={"snapp": 1.0})
+
+
+def test_points_projected_through_the_segment_tree_land_where_geos_puts_them():
+    rng = np.random.default_rng(3)
+    line = np.cumsum(rng.normal(0, 1, (300, 2)), axis=0)
+    points = rng.uniform(line.min(axis=0) - 5, line.max(axis=0) + 5, (2000, 2))
+    got = project_on(line, points)
+    geos = shapely.LineString(line)
+    assert np.allclose(got.distance, shapely.distance(geos, shapely.points(points)),
+                       atol=1e-9)
+    assert got.length == pytest.approx(geos.length)
+    # where the line passes the same distance twice the two may pick either pass; the
+    # point found is as near either way
+    at = shapely.get_coordinates(shapely.line_interpolate_point(geos, got.at))
+    assert np.allclose(np.hypot(*(at - points).T), got.distance, atol=1e-9)
+
+
+def test_a_stroke_hundreds_of_diagonals_long_far_from_the_drawing_takes_seconds():
+    # the pen stage's projections walked a long line for every point (GEOS on a whole
+    # LineString): this took about 30 s at 20,000 units and minutes at 60,000
+    small = np.array([[0.0, 0.0], [3.0, 1.0], [6.0, 1.5], [9.0, 1.0]])
+    far = np.column_stack([np.linspace(500.0, 60_500.0, 50), np.full(50, 1000.0)])
+    started = time.perf_counter()
+    out = simplify(Sketch([Stroke(small.copy()) for _ in range(6)] + [Stroke(far)]),
+                   SimplifyParams(lines="pen")).strokes
+    assert time.perf_counter() - started < 60
+    assert len(out) >= 2  # the drawing, and the far stroke kept as a line of its own
+
+
+@pytest.mark.parametrize("name", ["Professional3/mixer", "designer2/lamp"])
+def test_the_join_pass_keeps_close_lines_of_a_product_sketch_whole(name):
+    # joining two lines fitted again as one moved both onto a line between them (a rim's
+    # nested ellipses, a doubled edge): on these sketches the join pass cost 9 and 13
+    # of every 100 reference curves their whole line; now it is judged by that fit
+    require_data()
+    path = (DATA / "lift3d_opensketch/CurvedStrokesPython/full_clusters" / name
+            / "view1/lines_separation/full_cluster.scap")
+    sketch = read_sketch(path)
+    reference = [s.points for s in read_sketch(path.with_name("full_fit.scap")).strokes]
+    diagonal = float(np.hypot(sketch.width, sketch.height))
+    whole = {skip: whole_lines([s.points for s in simplify(
+        sketch, SimplifyParams(lines="pen", skip=skip)).strokes], reference, diagonal)
+        for skip in ((), ("join",))}
+    assert whole[()] >= whole[("join",)] - 0.04

@@ -5,16 +5,17 @@ which samples of polylines come within a reach of other lines."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import shapely
 
-from .polylines import resample_each
+from .polylines import arc_lengths, resample_each
 
 __all__ = [
-    "Crossings", "Reached", "Segments", "directions_at", "lines_from", "nearest_on",
-    "polygons_from", "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates",
-    "tangents", "unit_rows",
+    "Crossings", "Projection", "Reached", "Segments", "directions_at", "lines_from",
+    "nearest_on", "polygons_from", "project_on", "ring_is_counter_clockwise",
+    "shoelace_terms", "split_coordinates", "tangents", "unit_rows",
 ]
 
 
@@ -170,6 +171,25 @@ class Segments:
                       out=np.zeros(len(squared)), where=squared > 0)
         return np.clip(u, 0.0, 1.0) * np.sqrt(squared)
 
+    def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The nearest segment to each of ``points`` (of equally near ones, the lowest
+        numbered: the first along its polyline) and how far along it that point comes
+        nearest (:meth:`along`); one tree query, so that a polyline of many points costs
+        its log, where GEOS walks every segment of a LineString for each point.
+
+        >>> segs = Segments.of([np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])])
+        >>> seg, u = segs.nearest(np.array([[0.5, -1.0], [2.0, 0.5]]))
+        >>> seg.tolist(), u.tolist()
+        ([0, 1], [0.5, 0.5])
+        """
+        i, seg = self.tree.query_nearest(shapely.points(points), all_matches=True)
+        order = np.lexsort((seg, i))
+        i, seg = i[order], seg[order]
+        first = np.r_[True, i[1:] != i[:-1]]
+        out = np.zeros(len(points), dtype=np.intp)
+        out[i[first]] = seg[first]
+        return out, self.along(out, points)
+
     def running_along(self, points: np.ndarray, tangent: np.ndarray, reach: float,
                       along_cos: float) -> tuple[np.ndarray, np.ndarray]:
         """The segments within ``reach`` of each of ``points`` that run along its
@@ -225,6 +245,34 @@ class Segments:
         offset = (rel[:, 0] * d[:, 1] - rel[:, 1] * d[:, 0]) / (n[:, 0] * d[:, 1]
                                                                  - n[:, 1] * d[:, 0])
         return Crossings(sec, offset, self.polyline[seg])
+
+
+class Projection(NamedTuple):
+    """Points projected onto one polyline (:func:`project_on`)."""
+
+    at: np.ndarray  #: (n,) the arc length along the polyline where each comes nearest
+    distance: np.ndarray  #: (n,) how far each lies from it
+    length: float  #: the polyline's length
+
+
+def project_on(line: np.ndarray, points: np.ndarray) -> Projection:
+    """``points`` (n, 2) projected onto the polyline ``line`` (k >= 2, 2): what
+    ``shapely.line_locate_point`` and ``shapely.distance`` give, through a tree of its
+    segments (:meth:`Segments.nearest`), in time growing as n log k rather than n k.
+
+    >>> p = project_on(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]),
+    ...                np.array([[1.0, 1.0], [3.0, 1.5], [-1.0, 0.0]]))
+    >>> p.at.tolist(), p.distance.tolist(), p.length
+    ([1.0, 3.5, 0.0], [1.0, 1.0, 1.0], 4.0)
+    """
+    segs = Segments.of([line])
+    seg, u = segs.nearest(points)
+    foot = segs.origin[seg] + segs.vector[seg] * np.divide(
+        u, np.hypot(*segs.vector[seg].T), out=np.zeros(len(u)),
+        where=u > 0)[:, None]
+    running = arc_lengths(line)
+    return Projection(running[segs.start[seg]] + u, np.hypot(*(points - foot).T),
+                      float(running[-1]))
 
 
 @dataclass(frozen=True)

@@ -32,19 +32,12 @@ import numpy as np
 import shapely
 
 from ..arrays.components import component_labels
-from ..arrays.geometry import Segments, tangents
+from ..arrays.geometry import Segments, project_on, tangents
 from ..arrays.polylines import arc_lengths, gaussian_kernel, resample_polyline, smoothed_ring
 from .work import Line, Work
 
 __all__ = ["absorb_lines", "along_pairs", "band_split", "centreline", "clear_band",
            "fit_group", "regroup", "run"]
-
-
-def _project(line_points: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray,
-                                                                      float]:
-    line = shapely.LineString(line_points)
-    geoms = shapely.points(points)
-    return shapely.line_locate_point(line, geoms), shapely.distance(line, geoms), line.length
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -57,7 +50,7 @@ def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
             ) -> tuple[np.ndarray, bool] | None:
     """The spine with ``piece`` attached (see the module), and whether it closed; None
     where the piece does not run along it."""
-    t, d, length = _project(spine, piece)
+    t, d, length = project_on(spine, piece)
     near = d <= reach
     runs = _runs(near)
     if not runs:
@@ -157,7 +150,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
             break
         tan = tangents(line, closed)
         normal = np.column_stack([-tan[:, 1], tan[:, 0]])
-        t, d, length = _project(line, ink)
+        t, d, length = project_on(line, ink)
         use = d <= reach
         b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
         offset = ((ink - line[b]) * normal[b]).sum(axis=1)
@@ -184,8 +177,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
 def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float) -> np.ndarray:
     """The share of each piece within ``reach`` of ``line``."""
     sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
-    near = shapely.distance(shapely.LineString(line),
-                            shapely.points(np.concatenate(pieces))) <= reach
+    near = project_on(line, np.concatenate(pieces)).distance <= reach
     return np.add.reduceat(near.astype(np.intp), np.cumsum(sizes) - sizes) / sizes
 
 
@@ -194,7 +186,7 @@ def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
     """Which ``points`` lie beside the evenly spaced open ``line`` (within ``reach``, not
     beyond its ends), how far along it, and their signed offsets from it (left of its
     direction positive)."""
-    t, d, length = _project(line, points)
+    t, d, length = project_on(line, points)
     n = len(line)
     beside = (d <= reach) & (t > 0) & (t < length)
     b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
@@ -360,15 +352,17 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
     lengths = np.array([ln.length for ln in lines])
     if len(lines) < 2:
         return lines
-    geoms = np.array([shapely.LineString(ln.points) for ln in lines], dtype=object)
-    tree = shapely.STRtree(geoms)
-    owner: dict[int, int] = {}
+    segs = Segments.of([ln.points for ln in lines])  # a tree of single segments: a
+    owner: dict[int, int] = {}  # long line's points are not each walked along a long line
     for k in sorted(range(len(lines)), key=lambda k: (lengths[k], k)):
         crumb = lengths[k] < t.crumb * work.d
         if not crumb and band is None:
             continue
-        pts = shapely.points(lines[k].points)
-        i, j = tree.query(pts, predicate="dwithin", distance=t.absorb_reach * work.d)
+        pts = lines[k].points
+        i, seg = segs.tree.query(shapely.points(pts), predicate="dwithin",
+                                 distance=t.absorb_reach * work.d)
+        ij = np.unique(i.astype(np.int64) * len(lines) + segs.polyline[seg])
+        i, j = ij // len(lines), ij % len(lines)
         keep = (lengths[j] > lengths[k]) & (j != k)
         i, j = i[keep], j[keep]
         others, count = np.unique(j, return_counts=True)
@@ -392,18 +386,38 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
 
 
 def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
-    """``lines`` with each connected set of ``pairs`` fitted again as one group."""
+    """``lines`` with each connected set of ``pairs`` fitted again as one group, where the
+    joint fit keeps every one of them in place: at least ``tuning.join_share`` of each
+    within ``tuning.join_reach`` d_eps of the joint lines (else they stay as they were)."""
     if not len(pairs):
         return lines
     joined = component_labels(len(lines), pairs).tolist()
     merged: dict[int, list[Line]] = {}
     for line, label in zip(lines, joined):
         merged.setdefault(label, []).append(line)
+    t = work.tuning
     out = []
     for same in merged.values():
-        out += same if len(same) == 1 else fit_group(
-            sorted(m for ln in same for m in ln.members), work)
+        if len(same) == 1:
+            out += same
+            continue
+        joint = fit_group(sorted(m for ln in same for m in ln.members), work)
+        # joined only where the joint line keeps each line in place: two lines drawn close
+        # would both move to a line between them
+        keeps = _kept_along(same, joint, t.join_reach * work.d)
+        out += joint if keeps.min() >= t.join_share else same
     return out
+
+
+def _kept_along(before: list[Line], after: list[Line], reach: float) -> np.ndarray:
+    """The share of each line of ``before`` within ``reach`` of the lines ``after``."""
+    sizes = np.fromiter((len(ln.points) for ln in before), dtype=np.intp, count=len(before))
+    i, _ = Segments.of([ln.points for ln in after]).tree.query(
+        shapely.points(np.concatenate([ln.points for ln in before])), predicate="dwithin",
+        distance=reach)
+    near = np.zeros(int(sizes.sum()), dtype=np.intp)
+    near[i] = 1
+    return np.add.reduceat(near, np.cumsum(sizes) - sizes) / sizes
 
 
 def run(work: Work) -> Work:

@@ -15,7 +15,12 @@ leave no band free of ink wider than ``params.fill_gap`` between them
 (:func:`one_band`): the residual width of the joint line is small against the distance
 between the two, or they are two lines drawn close. Joined lines are
 fitted again as one group from all their ink (pass 4's check splits off again a piece
-that does not lie along the joint line), for up to ``ROUNDS`` rounds. Not at epsilon 0.
+that does not lie along the joint line), and stay joined only where that fit keeps each
+of them in place, ``tuning.join_share`` of it within ``tuning.join_reach`` d_eps of the
+joint line (:func:`core.lines.fit.regroup`): that is the fit validating the group, as
+StrokeStrip's joint parameterization does; two lines drawn close would both move onto a
+line between them, and a line joined on round a corner would be pulled off its ink. For
+up to ``ROUNDS`` rounds. Not at epsilon 0.
 
 Invariant: every pair is judged on the lines alone, all pairs of a round at once: the
 result does not depend on any order of judging.
@@ -26,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from ..arrays.geometry import project_on
 from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from ..merge.fourier import curve_descriptors, fd_distance
 from .fit import along_pairs, regroup
@@ -78,7 +84,7 @@ def half_widths(lines: list[Line], work: Work) -> np.ndarray:
     out = np.zeros(len(lines))
     for k, ln in enumerate(lines):
         ink = np.concatenate([work.pieces[m] for m in ln.members])
-        dist = shapely.distance(shapely.LineString(ln.points), shapely.points(ink))
+        dist = project_on(ln.points, ink).distance
         out[k] = float(np.percentile(dist, 90))
     return out
 
@@ -97,8 +103,7 @@ def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
     keep = np.zeros(len(pairs), bool)
     for k, (a, b) in enumerate(pairs.tolist()):
         short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)
-        dist = shapely.distance(shapely.LineString(lines[long_].points),
-                                shapely.points(lines[short].points))
+        dist = project_on(lines[long_].points, lines[short].points).distance
         beside = dist[dist <= work.d]
         gap = float(np.median(beside)) if len(beside) else float(dist.min())
         keep[k] = gap - width[a] - width[b] <= work.params.fill_gap
