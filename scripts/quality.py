@@ -18,8 +18,9 @@ both hold, and no width of bundle settles it. ``--root``
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
 ``--skip`` leaves pen passes out and ``--tuning`` changes the pen's tuned constants
-(``core.params.Tuning``), for ablations scored by the same scorer. ``--data`` scores another folder of .scap sketches laid out as ``../shared/data`` (a source
-folder each, a lift3d reference ``full_fit.scap`` beside its sketch), for example sketches held
+(``core.params.Tuning``), for ablations scored by the same scorer. ``--data`` scores
+another folder of .scap sketches laid out as ``../shared/data`` (a source folder each, a
+lift3d reference ``full_fit.scap`` beside its sketch), for example sketches held
 out from tuning; the folder is recorded in OUT.json for ``--pictures``.
 
 ``--pictures`` with ``--compare`` draws the five worst sketches of AFTER by doubled, ink
