@@ -87,12 +87,16 @@ class Tuning:
     along_share     pass 5 joins two fitted lines when this share of the shorter lies
                     within d_eps of the longer, running along it (doubled passes the
                     merges left apart), where no clear band lies between their inks
-    join_reach      lines pass 5 pairs are joined only where the joint fit keeps each of
-                    them in place: join_share of each within this of the joint line; 0.5:
-                    whole lines are judged within about half a bundle width, and two lines
-                    drawn close (a rim's nested ellipses, a box's doubled edge) would both
-                    move to a line between them
+    join_reach      lines pass 5 pairs are joined (and pass 6 leaves a line out for a
+                    longer one) only where the joint line keeps each of them in place:
+                    join_share of each within this of it; 0.5: whole lines are judged
+                    within about half a bundle width, and two lines drawn close (a rim's
+                    nested ellipses, a box's doubled edge) would both move to a line
+                    between them
     join_share      see join_reach; 0.6: a loose pass's ends may leave the joint line
+    apart           ... or where no other line lies within this many times the farthest
+                    move along half the joint line: passes of one loose line in open paper
+                    (StrokeAggregator's judging against the local spacing of lines)
     bin             the centreline is fitted in bins this long along its spine ...
     smooth          ... and its offsets smoothed by a Gaussian of this sigma
     snap            an end within this of another line meets it (T and L junctions)
@@ -124,6 +128,7 @@ class Tuning:
     along_share: float = 0.6
     join_reach: float = 0.5
     join_share: float = 0.6
+    apart: float = 3.0
     bin: float = 0.25
     smooth: float = 0.5
     snap: float = 1.0

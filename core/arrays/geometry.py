@@ -190,6 +190,20 @@ class Segments:
         out[i[first]] = seg[first]
         return out, self.along(out, points)
 
+    def distance(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """For each of ``points``: its nearest segment and how far along it
+        (:meth:`nearest`), and how far the point lies from it.
+
+        >>> segs = Segments.of([np.array([[0.0, 0.0], [2.0, 0.0]])])
+        >>> segs.distance(np.array([[1.0, 1.0], [3.0, 0.0]]))[2].tolist()
+        [1.0, 1.0]
+        """
+        seg, u = self.nearest(points)
+        v = self.vector[seg]
+        foot = self.origin[seg] + v * np.divide(u, np.hypot(v[:, 0], v[:, 1]),
+                                                out=np.zeros(len(u)), where=u > 0)[:, None]
+        return seg, u, np.hypot(*(points - foot).T)
+
     def running_along(self, points: np.ndarray, tangent: np.ndarray, reach: float,
                       along_cos: float) -> tuple[np.ndarray, np.ndarray]:
         """The segments within ``reach`` of each of ``points`` that run along its
@@ -266,13 +280,9 @@ def project_on(line: np.ndarray, points: np.ndarray) -> Projection:
     ([1.0, 3.5, 0.0], [1.0, 1.0, 1.0], 4.0)
     """
     segs = Segments.of([line])
-    seg, u = segs.nearest(points)
-    foot = segs.origin[seg] + segs.vector[seg] * np.divide(
-        u, np.hypot(*segs.vector[seg].T), out=np.zeros(len(u)),
-        where=u > 0)[:, None]
+    seg, u, distance = segs.distance(points)
     running = arc_lengths(line)
-    return Projection(running[segs.start[seg]] + u, np.hypot(*(points - foot).T),
-                      float(running[-1]))
+    return Projection(running[segs.start[seg]] + u, distance, float(running[-1]))
 
 
 @dataclass(frozen=True)

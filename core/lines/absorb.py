@@ -4,7 +4,9 @@ out, its pieces counted as that line's, when it is shorter than ``tuning.crumb``
 hook at a stroke's end, cut off at its corner; a scrap at a junction), or when the two
 inks leave no band free of ink wider than ``params.fill_gap`` between them
 (:func:`core.lines.join.one_band`: a loose pass of the line that the fit split off, not
-a line drawn close beside it). Not at epsilon 0."""
+a line drawn close beside it); either only where the longer line keeps it in place, or
+lies apart from the other lines, as a join must (:func:`core.lines.fit.regroup`): a
+detail drawn short beside a long line is a line of its own. Not at epsilon 0."""
 
 from __future__ import annotations
 

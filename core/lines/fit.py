@@ -345,9 +345,11 @@ def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
 def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
     """``lines`` without those lying wholly within ``tuning.absorb_reach`` d_eps of a
     longer line: shorter than ``tuning.crumb`` d_eps (a hook, a scrap), or, where ``band``
-    (a test of two line indices) allows, of any length (a loose pass the fit split off).
-    Their pieces become that line's members (the one most of their points lie near), its
-    geometry unchanged."""
+    (a test of two line indices) allows, of any length (a loose pass the fit split off);
+    either only where the longer line stands for it as a join's line must
+    (:func:`_joint_fits`: in place, or apart from the other lines), else a short line
+    drawn close beside a long one is lost. Their pieces become that line's members (the
+    one most of their points lie near), its geometry unchanged."""
     t = work.tuning
     lengths = np.array([ln.length for ln in lines])
     if len(lines) < 2:
@@ -371,7 +373,8 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
             near_all = len(np.unique(i[j == o])) == len(pts)
             if o in owner or not (near_all or (crumb and len(np.unique(i)) == len(pts))):
                 continue
-            if crumb or band(k, o):
+            if (crumb or band(k, o)) and _joint_fits([lines[k]], [lines[o]], segs, [k, o],
+                                                     work):
                 owner[k] = o
             break
     if not owner:
@@ -387,37 +390,45 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
 
 def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
     """``lines`` with each connected set of ``pairs`` fitted again as one group, where the
-    joint fit keeps every one of them in place: at least ``tuning.join_share`` of each
-    within ``tuning.join_reach`` d_eps of the joint lines (else they stay as they were)."""
+    joint fit validates it (:func:`_joint_fits`); else they stay as they were."""
     if not len(pairs):
         return lines
     joined = component_labels(len(lines), pairs).tolist()
-    merged: dict[int, list[Line]] = {}
-    for line, label in zip(lines, joined):
-        merged.setdefault(label, []).append(line)
-    t = work.tuning
+    merged: dict[int, list[int]] = {}
+    for k, label in enumerate(joined):
+        merged.setdefault(label, []).append(k)
+    every = Segments.of([ln.points for ln in lines])
     out = []
     for same in merged.values():
         if len(same) == 1:
-            out += same
+            out.append(lines[same[0]])
             continue
-        joint = fit_group(sorted(m for ln in same for m in ln.members), work)
-        # joined only where the joint line keeps each line in place: two lines drawn close
-        # would both move to a line between them
-        keeps = _kept_along(same, joint, t.join_reach * work.d)
-        out += joint if keeps.min() >= t.join_share else same
+        joint = fit_group(sorted(m for k in same for m in lines[k].members), work)
+        out += joint if _joint_fits([lines[k] for k in same], joint, every, same, work) \
+            else [lines[k] for k in same]
     return out
 
 
-def _kept_along(before: list[Line], after: list[Line], reach: float) -> np.ndarray:
-    """The share of each line of ``before`` within ``reach`` of the lines ``after``."""
-    sizes = np.fromiter((len(ln.points) for ln in before), dtype=np.intp, count=len(before))
-    i, _ = Segments.of([ln.points for ln in after]).tree.query(
-        shapely.points(np.concatenate([ln.points for ln in before])), predicate="dwithin",
-        distance=reach)
-    near = np.zeros(int(sizes.sum()), dtype=np.intp)
-    near[i] = 1
-    return np.add.reduceat(near, np.cumsum(sizes) - sizes) / sizes
+def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: list[int],
+                work: Work) -> bool:
+    """Whether the lines ``before`` (indices ``own`` among ``every``'s polylines) are one
+    line, by their joint fit ``joint``: it keeps each of them in place (the distance
+    within which ``tuning.join_share`` of each lies, their *move*, at most
+    ``tuning.join_reach`` d_eps), or it lies apart from every other line (along at least
+    half of it, none within ``tuning.apart`` times the largest move): two lines drawn
+    close among others would both move to a line between them; passes of one loose line
+    drawn in open paper are one line, however far apart."""
+    t = work.tuning
+    segs = Segments.of([ln.points for ln in joint])
+    moves = [float(np.quantile(segs.distance(ln.points)[2], t.join_share)) for ln in before]
+    move = max(moves)
+    if move <= t.join_reach * work.d:
+        return True
+    points = np.concatenate([ln.points for ln in joint])
+    i, seg = every.tree.query(shapely.points(points), predicate="dwithin",
+                              distance=t.apart * move)
+    other = ~np.isin(every.polyline[seg], own)
+    return len(np.unique(i[other])) <= 0.5 * len(points)
 
 
 def run(work: Work) -> Work:
