@@ -190,19 +190,22 @@ class Segments:
         out[i[first]] = seg[first]
         return out, self.along(out, points)
 
-    def distance(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """For each of ``points``: its nearest segment and how far along it
-        (:meth:`nearest`), and how far the point lies from it.
+    def foot(self, segment: np.ndarray, along: np.ndarray) -> np.ndarray:
+        """The points ``along`` (as :meth:`along` gives) each of the given segments."""
+        v = self.vector[segment]
+        return self.origin[segment] + v * np.divide(
+            along, np.hypot(v[:, 0], v[:, 1]), out=np.zeros(len(along)),
+            where=along > 0)[:, None]
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        """How far each of ``points`` lies from the nearest segment.
 
         >>> segs = Segments.of([np.array([[0.0, 0.0], [2.0, 0.0]])])
-        >>> segs.distance(np.array([[1.0, 1.0], [3.0, 0.0]]))[2].tolist()
+        >>> segs.distance(np.array([[1.0, 1.0], [3.0, 0.0]])).tolist()
         [1.0, 1.0]
         """
         seg, u = self.nearest(points)
-        v = self.vector[seg]
-        foot = self.origin[seg] + v * np.divide(u, np.hypot(v[:, 0], v[:, 1]),
-                                                out=np.zeros(len(u)), where=u > 0)[:, None]
-        return seg, u, np.hypot(*(points - foot).T)
+        return np.hypot(*(points - self.foot(seg, u)).T)
 
     def running_along(self, points: np.ndarray, tangent: np.ndarray, reach: float,
                       along_cos: float) -> tuple[np.ndarray, np.ndarray]:
@@ -280,9 +283,10 @@ def project_on(line: np.ndarray, points: np.ndarray) -> Projection:
     ([1.0, 3.5, 0.0], [1.0, 1.0, 1.0], 4.0)
     """
     segs = Segments.of([line])
-    seg, u, distance = segs.distance(points)
+    seg, u = segs.nearest(points)
     running = arc_lengths(line)
-    return Projection(running[segs.start[seg]] + u, distance, float(running[-1]))
+    return Projection(running[segs.start[seg]] + u,
+                      np.hypot(*(points - segs.foot(seg, u)).T), float(running[-1]))
 
 
 @dataclass(frozen=True)

@@ -420,8 +420,7 @@ def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: lis
     drawn in open paper are one line, however far apart."""
     t = work.tuning
     segs = Segments.of([ln.points for ln in joint])
-    moves = [float(np.quantile(segs.distance(ln.points)[2], t.join_share)) for ln in before]
-    move = max(moves)
+    move = max(float(np.quantile(segs.distance(ln.points), t.join_share)) for ln in before)
     if move <= t.join_reach * work.d:
         return True
     points = np.concatenate([ln.points for ln in joint])
