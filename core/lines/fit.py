@@ -390,7 +390,9 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
 
 def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
     """``lines`` with each connected set of ``pairs`` fitted again as one group, where the
-    joint fit validates it (:func:`_joint_fits`); else they stay as they were."""
+    joint fit validates it (:func:`_joint_fits`); else, for a set of three lines or more,
+    each of its pairs judged so on its own (a chain of pairs may join two lines drawn
+    twice each: each pair is one line, the chain is not); else they stay as they were."""
     if not len(pairs):
         return lines
     joined = component_labels(len(lines), pairs).tolist()
@@ -404,9 +406,31 @@ def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
             out.append(lines[same[0]])
             continue
         joint = fit_group(sorted(m for k in same for m in lines[k].members), work)
-        out += joint if _joint_fits([lines[k] for k in same], joint, every, same, work) \
-            else [lines[k] for k in same]
+        if _joint_fits([lines[k] for k in same], joint, every, same, work):
+            out += joint
+        elif len(same) == 2:
+            out += [lines[k] for k in same]
+        else:  # a chain of pairs that is not one line: its pairs, each on its own
+            inside = pairs[np.isin(pairs, same).all(axis=1)]
+            out += _pairwise(lines, inside, every, work)
     return out
+
+
+def _pairwise(lines: list[Line], pairs: np.ndarray, every: Segments, work: Work
+              ) -> list[Line]:
+    """The lines of ``pairs`` (indices into ``lines``), each pair whose joint fit
+    validates it joined, in the order of the pairs (each line joined once; a later round
+    of pass 5 may join the joint lines on)."""
+    done: set[int] = set()
+    out = []
+    for a, b in pairs.tolist():
+        if a in done or b in done:
+            continue
+        joint = fit_group(sorted(lines[a].members + lines[b].members), work)
+        if _joint_fits([lines[a], lines[b]], joint, every, [a, b], work):
+            out += joint
+            done.update((a, b))
+    return out + [lines[k] for k in sorted(set(pairs.ravel().tolist()) - done)]
 
 
 def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: list[int],

@@ -19,8 +19,9 @@ that does not lie along the joint line), and stay joined only where that fit kee
 of them in place, ``tuning.join_share`` of it within ``tuning.join_reach`` d_eps of the
 joint line (:func:`core.lines.fit.regroup`): that is the fit validating the group, as
 StrokeStrip's joint parameterization does; two lines drawn close would both move onto a
-line between them, and a line joined on round a corner would be pulled off its ink. For
-up to ``ROUNDS`` rounds. Not at epsilon 0.
+line between them, and a line joined on round a corner would be pulled off its ink. A
+chain of pairs whose joint fit fails is judged pair by pair. For up to ``ROUNDS``
+rounds. Not at epsilon 0.
 
 Invariant: every pair is judged on the lines alone, all pairs of a round at once: the
 result does not depend on any order of judging.
