@@ -851,3 +851,30 @@ def test_jittered_copies_held_to_each_other_keep_their_strokes():
     # alone, the lines boil: they move more than the jitter (1.1 to 1.4 px, a quarter of
     # the bundle width), or the strokes are cut differently
     assert max(alone) - min(alone) > 2 or min(moved_alone) > 0.5
+
+
+def test_a_drawing_smaller_than_the_bundle_width_keeps_its_lines():
+    # found by the fuzz kind 'ink far away': two far strokes hold half the points, so the
+    # drawing spans both and the three short edges meeting near the origin were each a
+    # crumb under d_eps at one junction: all three went, and nothing came out
+    strokes = [np.array([[0.0, 0.0], [0.0, 51.0]]), np.array([[51.0, 0.0], [-50.0, -1.0]]),
+               np.array([[1e6, 0.0], [1e6 + 1e-9, 0.0]]),
+               np.array([[1e6, 1.0], [1e6 + 1e-9, 2.0]])]
+    out = simplify(Sketch([Stroke(s) for s in strokes])).strokes
+    assert out
+    near = np.concatenate([s.points for s in out if s.points[:, 0].max() < 1e3])
+    assert np.hypot(*(near.max(axis=0) - near.min(axis=0))) > 50  # the drawing, not a dot
+
+
+def test_three_crumbs_meeting_at_a_junction_are_not_all_trimmed():
+    d_eps = 1.0
+    arms = [np.array([[0.0, 0.0], [0.6, 0.0]]), np.array([[0.0, 0.0], [-0.3, 0.5]]),
+            np.array([[0.0, 0.0], [-0.3, -0.5]])]
+    graph = trim_spurs(build_graph([Edge(a, 0.0, True) for a in arms], 1e-3), d_eps,
+                       np.cos(np.radians(30)))
+    assert graph.edges
+    # beside a line d_eps long, the same crumbs are its overshoots' kind, and go
+    graph = trim_spurs(build_graph([Edge(a, 0.0, True) for a in arms[1:]]
+                                   + [Edge(np.array([[0.0, 0.0], [2.0, 0.0]]), 0.0, True)],
+                                   1e-3), d_eps, np.cos(np.radians(30)))
+    assert len(graph.edges) == 1

@@ -180,7 +180,9 @@ SPUR_LENGTH = 3.0
 def trim_spurs(graph: StrokeGraph, d_eps: float, cos_join: float) -> StrokeGraph:
     """Drop overshoots: short edges hanging off a junction by one free end that continue a
     longer edge there (leaving the junction opposite to it, within the join angle), and
-    crumbs shorter than d_eps whatever their direction.
+    crumbs shorter than d_eps whatever their direction where an edge at least d_eps long
+    meets them (where every edge at a junction is a crumb, they are a drawing smaller than
+    d_eps, and stay).
 
     A short edge meeting a line at an angle (a fret across a neck, a whisker, the stem of
     a T) is a detail of the drawing, and stays. Of two short edges that continue each
@@ -196,9 +198,14 @@ def trim_spurs(graph: StrokeGraph, d_eps: float, cos_join: float) -> StrokeGraph
                                                      | ((db == 1) & (da >= 3)))
         if not hanging.any():
             break
-        spur = hanging & (lengths < d_eps)
-        directions = end_directions([e.points for e in graph.edges], 2 * d_eps)
+        # a crumb goes only where a line stays at its junction: an edge at least d_eps
+        # long there (three crumbs meeting are a small drawing, not its overshoots)
         node_of_end = graph.ends.ravel()
+        junction = np.where(da == 1, graph.ends[:, 1], graph.ends[:, 0])
+        stays = np.zeros(int(node_of_end.max()) + 1, bool)
+        stays[node_of_end[np.repeat(lengths >= d_eps, 2)]] = True
+        spur = hanging & (lengths < d_eps) & stays[junction]
+        directions = end_directions([e.points for e in graph.edges], 2 * d_eps)
         for k in np.flatnonzero(hanging & ~spur).tolist():
             end = 2 * k + int(da[k] == 1)  # the end at the junction
             others = np.flatnonzero(node_of_end == node_of_end[end])
