@@ -263,6 +263,15 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None,
             break
     if result is None:
         result = _run(cleaned, ink, report, norm, cx, params, timings, cover)
+    if not result.strokes and result.params.epsilon > 0:
+        # every stroke of the drawing shorter than the bundle width, as where ink far away
+        # holding much of the points sets the drawing's size: say so, rather than give back
+        # an empty drawing as if simplified
+        raise SketchError(
+            f"nothing would come out: every stroke is shorter than the bundle width "
+            f"({result.params.alpha:.3g} of the drawing's diagonal, {norm.scale:.3g}); is "
+            "part of the ink far away from the rest? Simplify the parts apart, or at "
+            "epsilon 0")
     result.timings["total"] = time.perf_counter() - t0
     return result
 

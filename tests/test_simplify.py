@@ -878,3 +878,13 @@ def test_three_crumbs_meeting_at_a_junction_are_not_all_trimmed():
                                    + [Edge(np.array([[0.0, 0.0], [2.0, 0.0]]), 0.0, True)],
                                    1e-3), d_eps, np.cos(np.radians(30)))
     assert len(graph.edges) == 1
+
+
+def test_a_drawing_that_would_come_out_empty_is_refused_with_the_reason():
+    # a hairpin of one stroke, and far ink holding half the points: the drawing spans
+    # both, the stroke is about one bundle width long and snaps to a point
+    strokes = [np.array([[0.0, 20.0], [0.0, -32.0], [1.0, 69.0]]),
+               np.array([[1e6, 0.0], [1e6 + 1e-9, 0.0]]), np.array([[1e6, 1.0], [1e6 + 1e-9, 2.0]])]
+    with pytest.raises(SketchError, match="shorter than the bundle width"):
+        simplify(Sketch([Stroke(s) for s in strokes]))
+    assert simplify(Sketch([Stroke(s) for s in strokes]), SimplifyParams(epsilon=0)).strokes
