@@ -38,7 +38,7 @@ def fuzz_kind(kind: str, examples: int, rng_seed: int, params: SimplifyParams | 
     @fuzz_settings(examples)
     @given(strategy)
     def run(strokes):
-        outcomes[check(strokes) if params is None else check(strokes, params)] += 1
+        outcomes[check(strokes, params)] += 1
 
     try:
         run()

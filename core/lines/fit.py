@@ -50,8 +50,8 @@ def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
             ) -> tuple[np.ndarray, bool] | None:
     """The spine with ``piece`` attached (see the module), and whether it closed; None
     where the piece does not run along it."""
-    t, d, length = project_on(spine, piece)
-    near = d <= reach
+    along = project_on(spine, piece)
+    t, length, near = along.at, along.length, along.distance <= reach
     runs = _runs(near)
     if not runs:
         return None
@@ -150,8 +150,8 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
             break
         tan = tangents(line, closed)
         normal = np.column_stack([-tan[:, 1], tan[:, 0]])
-        t, d, length = project_on(line, ink)
-        use = d <= reach
+        along = project_on(line, ink)
+        t, length, use = along.at, along.length, along.distance <= reach
         b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
         offset = ((ink - line[b]) * normal[b]).sum(axis=1)
         has, middle = _bin_medians(b[use], offset[use], n)
@@ -186,9 +186,10 @@ def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
     """Which ``points`` lie beside the evenly spaced open ``line`` (within ``reach``, not
     beyond its ends), how far along it, and their signed offsets from it (left of its
     direction positive)."""
-    t, d, length = project_on(line, points)
+    along = project_on(line, points)
+    t, length = along.at, along.length
     n = len(line)
-    beside = (d <= reach) & (t > 0) & (t < length)
+    beside = (along.distance <= reach) & (t > 0) & (t < length)
     b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
     tan = tangents(line)
     normal = np.column_stack([-tan[:, 1], tan[:, 0]])
