@@ -110,19 +110,23 @@ def far_ink(args: tuple[str, str]) -> tuple[str, float]:
     return path, changed([s.points for s in alone], near, 0.005 * diag, 0.0025 * diag)
 
 
-def output_of(args: tuple[str, str]) -> list[np.ndarray]:
-    """The output polylines of one sketch, simplified by the checkout at ``root``."""
-    root, path = args
+def output_of(args: tuple[str, str, dict]) -> list[np.ndarray]:
+    """The output polylines of one sketch, simplified by the checkout at ``root`` with the
+    run's options (its ``SimplifyParams`` fields)."""
+    root, path, options = args
     _setup(root)
     from core import SimplifyParams, read_sketch, simplify
 
-    return [s.points for s in simplify(read_sketch(path), SimplifyParams()).strokes]
+    return [s.points for s in simplify(read_sketch(path), SimplifyParams(**options)).strokes]
 
 
 def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int) -> None:
-    """Input | before | after of the five worst sketches by doubled, ink kept, strokes per
-    stroke in and tight recall (of ``after``), one PNG each (drawn by the report's
-    :func:`picture`)."""
+    """Input | before | after of the five worst sketches by each of ``WORST_OF`` (of
+    ``after``, simplified with its run's options), one PNG each (drawn by the report's
+    :func:`picture`), the outputs over the reference in grey (lift3d's, else one line
+    fitted per labelled cluster)."""
+    from bench_simplify import diagonal, intended_curves
+    from metrics import cluster_reference
     from report import picture
 
     from core import read_sketch
@@ -138,14 +142,21 @@ def worst_pictures(after: dict, roots: tuple[str, str], out_dir: Path, jobs: int
     outs = {}
     for root in roots:  # a pool each: a worker imports one checkout's core
         with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-            outs[root] = list(pool.map(output_of, [(root, p) for p in paths]))
+            outs[root] = list(pool.map(output_of, [(root, p, after.get("_options", {}))
+                                                   for p in paths]))
     for k, (key, measure) in enumerate(chosen.items()):
-        ink = [s.points for s in read_sketch(data / key).strokes]
+        sketch = read_sketch(data / key)
+        ink = [s.points for s in sketch.strokes]
+        reference = intended_curves(data / key, sketch)[1]
+        if reference is None:
+            reference = cluster_reference(ink, [s.cluster for s in sketch.strokes],
+                                          diagonal(sketch))
         panels = [(f"{short_name(key)}, worst by {measure} ({ok[key][measure]:.3f} after): "
                    f"input, {len(ink)} strokes", ink)] + [
             (f"{label}: {len(outs[root][k])} strokes", outs[root][k])
             for label, root in zip(("before", "after"), roots)]
-        picture(out_dir / f"{measure}_{short_name(key).replace('/', '_')}.png", panels)
+        picture(out_dir / f"{measure}_{short_name(key).replace('/', '_')}.png", panels,
+                under=reference)
 
 
 def short_name(key: str) -> str:
@@ -253,6 +264,7 @@ def main(argv: list[str] | None = None) -> int:
     out = {str(Path(k).relative_to(data)): v for k, v in rows.items()}
     out["_far"] = {"far_ink": {str(Path(k).relative_to(data)): v for k, v in far_rows.items()}}
     out["_data"] = str(data)
+    out["_options"] = options  # what --pictures simplifies with
     if args.out:
         Path(args.out).write_text(json.dumps(out, indent=1))
     print(summary(out))

@@ -62,9 +62,14 @@ def douglas_peucker(ink: list[np.ndarray], tolerance: float) -> list[np.ndarray]
     return split_coordinates(shapely.simplify(lines_from(ink), tolerance))
 
 
-def picture(path: Path, panels: list[tuple[str, list[np.ndarray]]]) -> None:
+def picture(path: Path, panels: list[tuple[str, list[np.ndarray]]],
+            under: list[np.ndarray] | None = None) -> None:
+    """Panels side by side; ``under`` (a reference), in grey beneath every panel but the
+    first."""
     fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 5))
-    for ax, (title, strokes) in zip(np.atleast_1d(axes), panels):
+    for k, (ax, (title, strokes)) in enumerate(zip(np.atleast_1d(axes), panels)):
+        for s in (under or []) if k else []:
+            ax.plot(*s.T, lw=2.5, color="0.85")
         for s in strokes:
             ax.plot(*s.T, lw=0.7)
         ax.set_title(title, fontsize=10)
