@@ -14,7 +14,8 @@ STAMP45 := $(VENV45)/.installed
 help:
 	@echo "make demo       set up, then simplify the bundled samples (SVG, and a .blend via the operator) into out/"
 	@echo "make test       set up, then run the whole test suite (add-on on Blender 5.0 and 4.5)"
-	@echo "make benchmark  the report: reports/benchmark/index.html over ../shared/data"
+	@echo "make benchmark  the report: reports/benchmark/index.html over ../shared/data,"
+	@echo "                then Stable Across Frames on moving drawings (bench_stable.py)"
 	@echo "make extension  build dist/sketchsimp-<version>-<platform>.zip for Blender"
 	@echo "make fuzz       10,000 random and adversarial sketches through core.simplify, counted by kind"
 	@echo "make lint       ruff"
@@ -55,6 +56,7 @@ extension: $(STAMP)
 benchmark: $(STAMP)
 	$(PY) scripts/bench_complex.py
 	$(PY) scripts/report.py
+	$(PY) scripts/bench_stable.py
 
 clean:
 	rm -rf $(VENV) $(VENV45) dist out reports .pytest_cache .hypothesis

@@ -55,7 +55,8 @@ class SimplifyOptions:
         name="Stable Across Frames", default=True,
         description="With All Keyframes or Frame Range: hold each keyframe's lines to the "
         "keyframe's before it where the drawing did not change (within the bundle width), "
-        "so that slightly redrawn frames do not boil")
+        "so that slightly redrawn frames do not boil, and carry them along where the "
+        "drawing moved or turned")
     fill_regions: BoolProperty(
         name="Fill Regions", default=False,
         description="Also write the closed regions of the simplified drawing as fills, on a "
