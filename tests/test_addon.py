@@ -466,6 +466,30 @@ def test_jittered_keyframes_keep_their_lines_when_stable(stable):
         assert max(counts) - min(counts) > 2 or max(moved) >= 0.003
 
 
+def test_a_drawing_moved_from_key_to_key_is_followed_when_stable():
+    """The house moved 0.3% of its diagonal a keyframe along X over five keyframes: held
+    to each other, the outputs keep their strokes and lie on each keyframe's own ink (the
+    mean distance of the output to the ink no larger than on the first keyframe). Before,
+    a kept stroke stayed put until a bundle width behind."""
+    house = sample_points("house")
+    size = float(np.hypot(*np.ptp(np.concatenate(house)[:, [0, 2]], axis=0)))
+    ob = make_object({k: None for k in (1, 2, 3, 4, 5)})
+    inks = []
+    for k, frame in enumerate(ob.data.layers["Lines"].frames):
+        shift = np.array([0.003 * size * k, 0.0, 0.0], dtype=np.float32)
+        ink = [s + shift for s in house]
+        fill_drawing(frame.drawing, ink)
+        inks.append(np.concatenate(ink)[:, [0, 2]])
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", stable=True) == {"FINISHED"}
+    outs = [strokes_of(f.drawing) for f in ob.data.layers["Lines simplified"].frames]
+    off = [float(np.mean(shapely.distance(shapely.points(np.concatenate(o)[:, [0, 2]]),
+                                          shapely.MultiPoint(ink)))) / size
+           for o, ink in zip(outs, inks)]
+    counts = [len(o) for o in outs]
+    assert max(counts) - min(counts) <= 1
+    assert max(off) < off[0] + 0.0005, off  # it moves with the ink
+
+
 def test_selected_strokes_only():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing
