@@ -64,12 +64,13 @@ def _near(strokes: list[Stroke], others: list[Stroke], width: float
     """For each stroke: the share of it within ``width`` of the ``others``, and which of
     them it comes within ``width`` of."""
     touched: list[set[int]] = [set() for _ in strokes]
-    if not strokes or not others:
+    lines = [k for k, o in enumerate(others) if len(o.points) >= 2]  # a dot is no line
+    if not strokes or not lines:
         return np.zeros(len(strokes)), touched
-    reached = Reached.of([s.points for s in strokes], [o.points for o in others], width,
-                         width / 2)
+    reached = Reached.of([s.points for s in strokes], [others[k].points for k in lines],
+                         width, width / 2)
     for k, o in zip(reached.polyline[reached.sample].tolist(), reached.line.tolist()):
-        touched[k].add(o)
+        touched[k].add(lines[o])
     return reached.shares(), touched
 
 

@@ -884,6 +884,20 @@ def test_a_drawing_moved_from_key_to_key_is_followed_by_its_held_lines(shift, tu
     assert max(lags) < 0.001 and max(counts) - min(counts) <= 1
 
 
+def test_held_to_takes_dots_and_strokes_of_no_length_and_keeps_a_result_held_to_itself():
+    from core import held_to
+
+    strokes = [Stroke(np.array([[0.0, 0.0]])), Stroke(np.array([[1.0, 1.0], [1.0, 1.0]])),
+               Stroke(np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 5.0]]))]
+    same = held_to(strokes, strokes, 1.0)
+    assert len(same) == 3 and all(np.array_equal(a.points, b.points)
+                                  for a, b in zip(same, strokes))
+    moved = [Stroke(s.points + [0.0, 0.3]) for s in strokes]  # a dot is no line: before,
+    out = held_to(strokes, moved, 1.0)  # GEOS refused it ("point array must contain ...")
+    assert len(out) == 3 and all(np.allclose(a.points, b.points, atol=1e-3)
+                                 for a, b in zip(out, moved))
+
+
 def test_a_drawing_smaller_than_the_bundle_width_keeps_its_lines():
     # found by the fuzz kind 'ink far away': two far strokes hold half the points, so the
     # drawing spans both and the three short edges meeting near the origin were each a
