@@ -166,8 +166,8 @@ class SimplifyResult:
         are cut out of it, a pupil inside an eye is filled); regions side by side are
         each filled."""
         smallest = min_share * 0.5 * self.normalisation.scale ** 2  # box of diagonal D
-        # the curves as drawn (a stroke's points sample its Bezier coarsely: a circle 30
-        # units across came out 8% smaller), so that a fill reaches the line all round
+        # the curves as drawn, not the chords between a stroke's points (which sample its
+        # Bezier coarsely), so that a fill reaches the line all round
         drawn = [s.points if s.bezier is None else sample_bezier(s.bezier, FILL_SAMPLES)
                  for s in self.strokes]
         return line_regions(drawn, [s.closed for s in self.strokes],
@@ -366,5 +366,6 @@ def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float)
                 and 1 - reached.shares().min() <= KEEP_STROKE)
 
 
-__all__ = ["FILL_MIN_SHARE", "KEEP_EPSILON", "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE",
-           "SimplifyResult", "from_record", "simplify"]
+__all__ = ["FILL_CLOSE", "FILL_MIN_SHARE", "FILL_REACH", "FILL_SAMPLES", "KEEP_EPSILON",
+           "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE", "SimplifyResult", "from_record",
+           "simplify"]

@@ -9,8 +9,8 @@ region. Then the lines are thickened by ``close`` (so that two lines that stop w
 twice that of each other close a region: the gap a junction leaves), the white space not
 reachable from outside the drawing is cut into its connected parts, and each part is grown
 back by ``close`` onto the lines' middles (mitred, so that a square region keeps its
-corners). A part with ink inside it, touching
-it nowhere (a face's eyes), has that ink's outline as a hole. A region lying inside
+corners). A part with ink inside it, touching it nowhere (a face's eyes), has that ink's
+outline as a hole. A region lying inside
 another's outline is a hole of it, filled only inside a hole in turn: the even-odd rule
 of vector art (a ring's hole stays empty, a face's eyes are cut out of it, a pupil inside
 an eye is filled); regions side by side are each filled.
@@ -27,7 +27,7 @@ import shapely
 
 from ..sketch import Region
 
-__all__ = ["line_regions"]
+__all__ = ["extensions", "line_regions"]
 
 
 def _ring(r) -> np.ndarray:
