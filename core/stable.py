@@ -21,8 +21,13 @@ from key to key without the drawing moving: so the whole drawing is moved only w
 motion exceeds ``STILL`` of the width, and a stroke on its own only where its own exceeds
 ``PART``; otherwise a kept stroke stays exactly where it was, and does not boil.
 
+Given the keyframe's ink, a previous stroke is kept where the ink still runs along it
+(the drawing did not change there), though the keyframe's own result dropped or shortened
+that line: redrawn from key to key, results do, and the held lines would flicker.
+
 Invariants: a result held to itself is itself; every kept stroke lies within the bundle
-width of the new result, so nothing is drawn where the new keyframe has no line.
+width of the new keyframe's ink (or, without it, of its result), so nothing is drawn where
+the new keyframe has no ink.
 """
 
 from __future__ import annotations
@@ -158,12 +163,13 @@ def _fitted(points: list[np.ndarray], lines: Segments, reach: float, start: Moti
     return motion
 
 
-def carried(kept: list[Stroke], current: list[Stroke], width: float) -> list[Stroke]:
+def carried(kept: list[Stroke], current: list[Stroke], width: float,
+            support: list[Stroke] | None = None) -> list[Stroke]:
     """The ``kept`` strokes carried onto the ``current`` lines (see the module): moved by
     the motion that fits them all, then each by its own on top; one moved less than
     ``STILL`` of ``width`` on average stays as it was, and so does one the motion would take
-    off the ``current`` lines. Points and Bezier control points move together; widths,
-    pressures and colours stay.
+    off the ``support`` (the keyframe's ink, or by default the ``current`` lines). Points
+    and Bezier control points move together; widths, pressures and colours stay.
 
     >>> line = Stroke(np.array([[0.0, 0.0], [5.0, 5.0], [10.0, 0.0]]))
     >>> moved = Stroke(line.points + [0.3, 0.2])
@@ -193,17 +199,31 @@ def carried(kept: list[Stroke], current: list[Stroke], width: float) -> list[Str
         out.append(replace(stroke, points=motion(stroke.points),
                            bezier=None if stroke.bezier is None else motion(stroke.bezier)))
     # a stroke the fit took off the new lines (matched to the wrong ones) stays as it was:
-    # every kept stroke lies within the width of the new result
-    on_current, _ = _near(out, current, width)
+    # every kept stroke lies within the width of what holds it
+    on_current, _ = _near(out, current if support is None else support, width)
     return [moved if share >= 1 - MISSED else stroke
             for moved, stroke, share in zip(out, kept, on_current)]
 
 
-def held_to(previous: list[Stroke], current: list[Stroke], width: float) -> list[Stroke]:
+def held_to(previous: list[Stroke], current: list[Stroke], width: float,
+            ink: list[Stroke] | None = None) -> list[Stroke]:
     """``current`` held to ``previous`` (see the module docstring): the previous strokes the
-    current result still draws, carried onto its lines (:func:`carried`), then the current
-    strokes they do not draw. A kept stroke takes its source ids from the current strokes
-    along it, so that they name strokes of the current keyframe's input.
+    keyframe still draws, carried onto its lines (:func:`carried`), then the current
+    strokes they do not draw.
+
+    Args:
+        previous: the held result of the keyframe before.
+        current: this keyframe's result.
+        width: the bundle width.
+        ink: this keyframe's input strokes. Given, a previous stroke is kept where the
+            keyframe's ink still runs along it, whatever its result did there: redrawn,
+            a result may drop a line or end it shorter in one key and not the next (the
+            lamp's 31 to 43 strokes, held to their results, 37 to 43), where the ink
+            says nothing changed. Not given, where its result still does.
+
+    Returns:
+        The held strokes. A kept stroke takes its source ids from the ink along it, or the
+        current strokes along it, so that they name strokes of this keyframe's input.
 
     >>> line = Stroke(np.array([[0.0, 0.0], [10.0, 0.0]]))
     >>> redrawn = Stroke(np.array([[0.0, 0.01], [10.0, 0.01]]), sources=(3,))
@@ -214,13 +234,22 @@ def held_to(previous: list[Stroke], current: list[Stroke], width: float) -> list
     [0.2]
     >>> [s.points[0, 1] for s in held_to([line], [Stroke(redrawn.points + [0, 2])], 0.5)]
     [2.01]
+    >>> short = Stroke(redrawn.points * [0.5, 1])  # the result ends it at 5, the ink at 10
+    >>> [len(held_to([line], [short], 0.5)), len(held_to([line], [short], 0.5, [line]))]
+    [1, 1]
+    >>> held_to([line], [short], 0.5, [line])[0].points[-1].tolist()  # the line, held
+    [10.0, 0.0]
     """
     if not previous or not current or not width > 0:
         return list(current)
-    on_current, along = _near(previous, current, width)
-    kept = carried([replace(p, sources=tuple(sorted({i for c in near
-                                                     for i in current[c].sources})))
-                    for p, share, near in zip(previous, on_current, along)
-                    if share >= 1 - MISSED], current, width)
+    if ink is None:
+        support, ids = current, [c.sources for c in current]
+    else:
+        support = ink
+        ids = [(s.source_id if s.source_id is not None else k,) for k, s in enumerate(ink)]
+    on_support, along = _near(previous, support, width)
+    kept = carried([replace(p, sources=tuple(sorted({i for c in near for i in ids[c]})))
+                    for p, share, near in zip(previous, on_support, along)
+                    if share >= 1 - MISSED], current, width, support)
     on_kept, _ = _near(current, kept, width)
     return kept + [c for c, share in zip(current, on_kept) if share < HELD]

@@ -105,7 +105,8 @@ def run_shot(keys: list[Sketch], moves: list, d: float, drawn: list[Stroke]) -> 
         result = simplify(sketch)
         t1 = time.perf_counter()
         width = result.params.alpha * result.normalisation.scale
-        held.append(result.strokes if not held else held_to(held[-1], result.strokes, width))
+        held.append(result.strokes if not held else held_to(held[-1], result.strokes, width,
+                                                            sketch.strokes))
         t_simplify += t1 - t0
         t_held += time.perf_counter() - t1
         alone.append(result.strokes)

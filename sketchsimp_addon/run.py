@@ -500,7 +500,8 @@ def layer_to_world(obj, layer):
 def held_across_frames(prepared: list[Prepared], outputs: list) -> list:
     """Each layer's results, keyframe by keyframe, held to the keyframe's before it
     (:func:`core.held_to`): the previous lines brought onto this drawing's plane, kept
-    where this result still draws them within the bundle width."""
+    where this drawing's ink still runs along them within the bundle width, carried along
+    where it moved."""
     out = list(outputs)
     previous: dict[int, tuple] = {}  # layer -> (its last strokes, their plane)
     order = sorted(range(len(prepared)), key=lambda k: (prepared[k].layer.as_pointer(),
@@ -513,7 +514,8 @@ def held_across_frames(prepared: list[Prepared], outputs: list) -> list:
         if before is not None:
             strokes, was = before
             out[k] = replace(out[k], strokes=held_to(
-                [stroke_moved(s, was, plane) for s in strokes], out[k].strokes, out[k].width))
+                [stroke_moved(s, was, plane) for s in strokes], out[k].strokes, out[k].width,
+                prepared[k].sketch.strokes))
         previous[layer.as_pointer()] = (out[k].strokes, plane)
     return out
 

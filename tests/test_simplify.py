@@ -934,6 +934,26 @@ def test_a_drawing_moved_from_key_to_key_is_followed_by_its_held_lines(shift, tu
     assert max(lags) < 0.001 and max(counts) - min(counts) <= 1
 
 
+def test_a_line_a_keyframe_result_drops_is_held_while_its_ink_is_there():
+    """Redrawn from key to key, a result may drop a line or end it shorter in one key and
+    not the next. Held to the keyframe's ink, the line stays (the drawing did not change
+    there); held to the result alone, it goes and comes back: the lines flicker."""
+    from core import held_to
+
+    sketch = read_sketch(SAMPLES / "house.scap")
+    result = simplify(sketch)
+    width = result.bundle_width
+    dropped = result.strokes[1:]  # this key's result lost its first line
+    assert len(held_to(result.strokes, dropped, width)) == len(dropped)
+    held = held_to(result.strokes, dropped, width, sketch.strokes)
+    assert len(held) == len(result.strokes)
+    assert any(np.array_equal(h.points, result.strokes[0].points) for h in held)
+    # where the ink is gone too (the drawing changed), the line goes
+    rest = [s for s in sketch.strokes if shapely.distance(
+        shapely.LineString(s.points), shapely.LineString(result.strokes[0].points)) > width]
+    assert len(held_to(result.strokes, dropped, width, rest)) == len(dropped)
+
+
 def test_held_to_takes_dots_and_strokes_of_no_length_and_keeps_a_result_held_to_itself():
     from core import held_to
 
