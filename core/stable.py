@@ -168,7 +168,7 @@ def carried(kept: list[Stroke], current: list[Stroke], width: float,
     """The ``kept`` strokes carried onto the ``current`` lines (see the module): moved by
     the motion that fits them all, then each by its own on top; one moved less than
     ``STILL`` of ``width`` on average stays as it was, and so does one the motion would take
-    off the ``support`` (the keyframe's ink, or by default the ``current`` lines). Points
+    farther off the ``support`` (the keyframe's ink, or by default the ``current`` lines). Points
     and Bezier control points move together; widths, pressures and colours stay.
 
     >>> line = Stroke(np.array([[0.0, 0.0], [5.0, 5.0], [10.0, 0.0]]))
@@ -198,11 +198,13 @@ def carried(kept: list[Stroke], current: list[Stroke], width: float,
             continue
         out.append(replace(stroke, points=motion(stroke.points),
                            bezier=None if stroke.bezier is None else motion(stroke.bezier)))
-    # a stroke the fit took off the new lines (matched to the wrong ones) stays as it was:
-    # every kept stroke lies within the width of what holds it
-    on_current, _ = _near(out, current if support is None else support, width)
-    return [moved if share >= 1 - MISSED else stroke
-            for moved, stroke, share in zip(out, kept, on_current)]
+    # a stroke the fit took farther off what holds it (matched to the wrong lines) stays
+    # as it was
+    support = current if support is None else support
+    after, _ = _near(out, support, width)
+    before, _ = _near(kept, support, width)
+    return [moved if a >= b else stroke
+            for moved, stroke, a, b in zip(out, kept, after, before)]
 
 
 def held_to(previous: list[Stroke], current: list[Stroke], width: float,
@@ -247,9 +249,11 @@ def held_to(previous: list[Stroke], current: list[Stroke], width: float,
     else:
         support = ink
         ids = [(s.source_id if s.source_id is not None else k,) for k, s in enumerate(ink)]
-    on_support, along = _near(previous, support, width)
-    kept = carried([replace(p, sources=tuple(sorted({i for c in near for i in ids[c]})))
-                    for p, share, near in zip(previous, on_support, along)
-                    if share >= 1 - MISSED], current, width, support)
+    # carried first, then judged where they now lie: a drawing moved by most of the width
+    # in a key, redrawn, would leave too much of a stroke off its own ink to be kept
+    moved = carried(previous, current, width, support)
+    on_support, along = _near(moved, support, width)
+    kept = [replace(m, sources=tuple(sorted({i for c in near for i in ids[c]})))
+            for m, share, near in zip(moved, on_support, along) if share >= 1 - MISSED]
     on_kept, _ = _near(current, kept, width)
     return kept + [c for c, share in zip(current, on_kept) if share < HELD]
