@@ -190,7 +190,10 @@ def carried(kept: list[Stroke], current: list[Stroke], width: float,
         whole = STILLNESS
     out = []
     for stroke, pts in zip(kept, points):
-        own = _fitted([pts], segs, width, whole, ROUNDS)
+        # its own motion only where the new lines run along most of it (a stroke the new
+        # result lacks is not pulled by the lines that merely meet its ends)
+        own = _fitted([pts], segs, width, whole, ROUNDS) \
+            if 2 * len(_feet(whole(pts), segs, width)[0]) >= len(pts) else whole
         motion = own if np.mean(np.hypot(*(own(pts) - whole(pts)).T)) >= PART * width \
             else whole
         if motion is STILLNESS:
