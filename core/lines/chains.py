@@ -6,21 +6,14 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ..arrays.polylines import arc_lengths, resample_polyline
+from ..arrays.polylines import resample_polyline
+from ..output.junctions import cut_to, tip_of
 from .work import Line
 
-__all__ = ["End", "chain", "cut_to", "meeting", "tip_of"]
+__all__ = ["End", "chain", "meeting"]
 
 #: a line end: (line index, 0 for its first point or 1 for its last)
 End = tuple[int, int]
-
-
-def tip_of(points: np.ndarray, end: int, reach: float) -> np.ndarray:
-    """The part of a polyline within ``reach`` (arc length) of one end, from that end."""
-    pts = points if end == 0 else points[::-1]
-    s = arc_lengths(pts)
-    k = max(2, int(np.searchsorted(s, reach, side="right")))
-    return pts[:k]
 
 
 def meeting(a: np.ndarray, end_a: int, b: np.ndarray, end_b: int, reach: float
@@ -40,22 +33,6 @@ def meeting(a: np.ndarray, end_a: int, b: np.ndarray, end_b: int, reach: float
         e = a[0] if end_a == 0 else a[-1]
         return pts[np.argmin(np.hypot(*(pts - e).T))]
     return 0.5 * ((a[0] if end_a == 0 else a[-1]) + (b[0] if end_b == 0 else b[-1]))
-
-
-def cut_to(points: np.ndarray, end: int, at: np.ndarray, reach: float) -> np.ndarray:
-    """The polyline with its ``end`` moved to ``at``: cut there if ``at`` lies on its last
-    ``reach``, else extended to it. Oriented as given."""
-    pts = points if end == 1 else points[::-1]
-    s = arc_lengths(pts)
-    line = shapely.LineString(pts)
-    t = float(shapely.line_locate_point(line, shapely.Point(at)))
-    if s[-1] - t <= reach and np.hypot(*(shapely.get_coordinates(
-            shapely.line_interpolate_point(line, t))[0] - at)) <= 1e-9 + 1e-6 * reach:
-        keep = pts[s < t]
-        out = np.concatenate([keep, [at]]) if len(keep) else np.stack([pts[0], at])
-    else:
-        out = np.concatenate([pts, [at]])
-    return out if end == 1 else out[::-1]
 
 
 def chain(lines: list[Line], joins: list[tuple[End, End]], reach: float, h: float
