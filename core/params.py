@@ -99,9 +99,11 @@ class Tuning:
                     (StrokeAggregator's judging against the local spacing of lines)
     bin             the centreline is fitted in bins this long along its spine ...
     smooth          ... and its offsets smoothed by a Gaussian of this sigma
-    snap            an end within this of another line meets it (T and L junctions)
+    snap            an end within this of another line meets it (T and L junctions; the
+                    complex stage's step 10 too, core.output.junctions)
     overshoot       an end that crosses another line and runs on past it at most this
                     long is cut at the crossing: an overshoot, not a line drawn through
+                    (the pen stage; the complex stage leaves overshoots as drawn)
     crumb           a line shorter than this whose every point lies within absorb_reach
                     of a longer line is that line's (a hook at a stroke's end, a crumb
                     at a junction): its pieces join that line's group; so is a longer
