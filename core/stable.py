@@ -163,13 +163,14 @@ def _fitted(points: list[np.ndarray], lines: Segments, reach: float, start: Moti
     return motion
 
 
-def carried(kept: list[Stroke], current: list[Stroke], width: float,
+def carried(strokes: list[Stroke], current: list[Stroke], width: float,
             support: list[Stroke] | None = None) -> list[Stroke]:
-    """The ``kept`` strokes carried onto the ``current`` lines (see the module): moved by
-    the motion that fits them all, then each by its own on top; one moved less than
-    ``STILL`` of ``width`` on average stays as it was, and so does one the motion would take
-    farther off the ``support`` (the keyframe's ink, or by default the ``current`` lines). Points
-    and Bezier control points move together; widths, pressures and colours stay.
+    """The ``strokes`` (the keyframe before's) carried onto the ``current`` lines (see the
+    module): moved by the motion that fits them all, then each by its own on top where the
+    lines run along most of it; one moved less than ``STILL`` of ``width`` on average
+    stays as it was, and so does one the motion would take farther off the ``support``
+    (the keyframe's ink, or by default the ``current`` lines). Points and Bezier control
+    points move together; widths, pressures and colours stay.
 
     >>> line = Stroke(np.array([[0.0, 0.0], [5.0, 5.0], [10.0, 0.0]]))
     >>> moved = Stroke(line.points + [0.3, 0.2])
@@ -179,17 +180,17 @@ def carried(kept: list[Stroke], current: list[Stroke], width: float,
     True
     """
     lines = [c.points for c in current if len(c.points) >= 2]
-    if not kept or not lines:
-        return list(kept)
+    if not strokes or not lines:
+        return list(strokes)
     segs = Segments.of(lines)
     spacing = width / 4
-    points = [resample_polyline(s.points, spacing) for s in kept]
+    points = [resample_polyline(s.points, spacing) for s in strokes]
     whole = _fitted(points, segs, width, STILLNESS, ROUNDS)
     flat = np.concatenate(points)
     if np.mean(np.hypot(*(whole(flat) - flat).T)) < STILL * width:
         whole = STILLNESS
     out = []
-    for stroke, pts in zip(kept, points):
+    for stroke, pts in zip(strokes, points):
         # its own motion only where the new lines run along most of it (a stroke the new
         # result lacks is not pulled by the lines that merely meet its ends)
         own = _fitted([pts], segs, width, whole, ROUNDS) \
@@ -205,9 +206,9 @@ def carried(kept: list[Stroke], current: list[Stroke], width: float,
     # as it was
     support = current if support is None else support
     after, _ = _near(out, support, width)
-    before, _ = _near(kept, support, width)
+    before, _ = _near(strokes, support, width)
     return [moved if a >= b else stroke
-            for moved, stroke, a, b in zip(out, kept, after, before)]
+            for moved, stroke, a, b in zip(out, strokes, after, before)]
 
 
 def held_to(previous: list[Stroke], current: list[Stroke], width: float,
