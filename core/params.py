@@ -104,6 +104,9 @@ class Tuning:
     overshoot       an end that crosses another line and runs on past it at most this
                     long is cut at the crossing: an overshoot, not a line drawn through
                     (the pen stage; the complex stage leaves overshoots as drawn)
+    corner          two free ends that each stop at most this short of the corner they
+                    draw meet there (an L whose sides both stop short, as a roof's top;
+                    the complex stage): 1.5, the house sample's roof sides stop 1.4 short
     crumb           a line shorter than this whose every point lies within absorb_reach
                     of a longer line is that line's (a hook at a stroke's end, a crumb
                     at a junction): its pieces join that line's group; so is a longer
@@ -135,6 +138,7 @@ class Tuning:
     smooth: float = 0.5
     snap: float = 1.0
     overshoot: float = 2.0
+    corner: float = 1.5
     crumb: float = 3.0
     absorb_reach: float = 0.75
     band_ratio: float = 1.0

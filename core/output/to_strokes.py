@@ -86,11 +86,12 @@
 9. Placement: each line moves onto the middle of the input ink it stands for, junctions
    held (:mod:`core.output.placement`). Not at epsilon 0.
 10. Junctions: an end that stops within ``tuning.snap`` d_eps of another line meets it
-    exactly (:mod:`core.output.junctions`, the pen stage's pass 8); an overshoot is left
-    as drawn (cut, whole lines fell by 0.006 and Chamfer rose 0.02 px on lift3d, where
-    extending alone raised whole lines; docs/decisions.md). Lines chained from the
-    complex's pieces stopped short of the line they meet: of the open ends within two
-    widths of another line, 15% touched it. Not at epsilon 0.
+    exactly (:mod:`core.output.junctions`, the pen stage's pass 8), and two free ends that
+    both stop short of the corner they draw (each within ``tuning.corner`` d_eps) meet
+    there; an overshoot is left as drawn (cut, whole lines fell by 0.006 and Chamfer rose
+    0.02 px on lift3d, where extending alone raised whole lines; docs/decisions.md).
+    Lines chained from the complex's pieces stopped short of the line they meet: of the
+    open ends within two widths of another line, 15% touched it. Not at epsilon 0.
 11. Each stroke is fitted with piecewise cubic Beziers, corners kept; an end that met a
     line is moved again onto that line's fitted curve.
 """
@@ -129,7 +130,7 @@ from .bezier import (
     smooth_between_corners,
 )
 from .bi_edges import InkFill, merge_bi_edges, merge_filled_bundles
-from .junctions import meet_at_junctions, met_ends
+from .junctions import meet_at_corners, meet_at_junctions, met_ends
 from .memo import StrokeMemo, shape_key
 from .placement import PLACE_REACH, centred_on_ink
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
@@ -779,9 +780,10 @@ def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
     if params.epsilon == 0 or len(lines) < 2:
         return fit_lines(lines, closed, params, memo)
     t = params.tuning  # step 10: junctions
+    cos_max = float(np.cos(np.radians(params.angle)))
     lines, meets = meet_at_junctions(lines, closed, t.snap * d_eps, t.overshoot * d_eps,
-                                     float(np.cos(np.radians(params.angle))), d_eps / 4,
-                                     cut=False)
+                                     cos_max, d_eps / 4, cut=False)
+    lines, meets = meet_at_corners(lines, closed, meets, t.corner * d_eps, cos_max, d_eps / 4)
     fitted = fit_lines(lines, closed, params, memo)
     return met_ends(fitted, meets) if any(m is not None for pair in meets for m in pair) \
         else fitted
