@@ -28,6 +28,4 @@ def run(work: Work) -> Work:
     fitted = fit_lines(lines, closed, work.params, work.memo)
     meets = [tuple(number.get(m) if m is not None else None for m in line.meets)
              for k, line in enumerate(current) if k in number]
-    if any(m is not None for pair in meets for m in pair):
-        fitted = met_ends(fitted, meets)
-    return work.with_(fitted=fitted)
+    return work.with_(fitted=met_ends(fitted, meets))

@@ -14,6 +14,8 @@ than that at an end.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import shapely
 
@@ -172,12 +174,13 @@ def meet_at_corners(lines: list[np.ndarray], closed: list[bool], meets: list[Mee
             if not c and len(pts) >= 2 for end in (0, 1) if met[end] is None]
     if len(free) < 2:
         return lines, meets
+    line_of = np.array([k for k, _ in free])
     at = np.array([lines[k][0] if end == 0 else lines[k][-1] for k, end in free])
-    way = unit_rows(np.array([(lambda tip: tip[0] - tip[-1])(tip_of(lines[k], end, reach))
-                              for k, end in free]))
+    tips = [tip_of(lines[k], end, reach) for k, end in free]
+    way = unit_rows(np.array([tip[0] - tip[-1] for tip in tips]))  # out of each line
     i, j = shapely.STRtree(shapely.points(at)).query(shapely.points(at), predicate="dwithin",
                                                      distance=2 * reach)
-    keep = (i < j) & (np.array([k for k, _ in free])[i] != np.array([k for k, _ in free])[j])
+    keep = (i < j) & (line_of[i] != line_of[j])
     i, j = i[keep], j[keep]
     corners = []
     for a, b in zip(i.tolist(), j.tolist()):
@@ -203,11 +206,13 @@ def meet_at_corners(lines: list[np.ndarray], closed: list[bool], meets: list[Mee
 
 
 def met_ends(fitted: list, meets: list[Meets]) -> list:
-    """The fitted strokes (each with ``points``, ``bezier`` and ``closed``: a
-    :class:`core.output.to_strokes.FittedStroke`) with each end that meets another stroke
-    moved onto that stroke's fitted curve, its Bezier handle moved with it (the tangent
-    kept), so that a T or an L meets exactly in the output."""
+    """The fitted strokes (:class:`core.output.to_strokes.FittedStroke`, dataclasses with
+    ``points`` and ``bezier``) with each end that meets another stroke moved onto that
+    stroke's fitted curve, its Bezier handle moved with it (the tangent kept), so that a T
+    or an L meets exactly in the output."""
     out = list(fitted)
+    if all(m is None for pair in meets for m in pair):
+        return out
     geoms = [shapely.LineString(f.points) for f in fitted]
     for k, pair in enumerate(meets):
         moved = False
@@ -224,6 +229,6 @@ def met_ends(fitted: list, meets: list[Meets]) -> list:
             bezier[handle] += shift
             moved = True
         if moved:
-            out[k] = type(out[k])(sample_bezier(bezier, SAMPLES_PER_SEGMENT), bezier,
-                                  out[k].closed)
+            out[k] = replace(out[k], points=sample_bezier(bezier, SAMPLES_PER_SEGMENT),
+                             bezier=bezier)
     return out

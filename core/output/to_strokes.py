@@ -784,9 +784,7 @@ def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
     lines, meets = meet_at_junctions(lines, closed, t.snap * d_eps, t.overshoot * d_eps,
                                      cos_max, d_eps / 4, cut=False)
     lines, meets = meet_at_corners(lines, closed, meets, t.corner * d_eps, cos_max, d_eps / 4)
-    fitted = fit_lines(lines, closed, params, memo)
-    return met_ends(fitted, meets) if any(m is not None for pair in meets for m in pair) \
-        else fitted
+    return met_ends(fit_lines(lines, closed, params, memo), meets)
 
 
 def fit_lines(lines: list[np.ndarray], closed: list[bool], params: SimplifyParams,
