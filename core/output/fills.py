@@ -10,10 +10,10 @@ twice that of each other close a region: the gap a junction leaves), the white s
 reachable from outside the drawing is cut into its connected parts, and each part is grown
 back by ``close`` onto the lines' middles (mitred, so that a square region keeps its
 corners). A part with ink inside it, touching it nowhere (a face's eyes), has that ink's
-outline as a hole. A region lying inside
-another's outline is a hole of it, filled only inside a hole in turn: the even-odd rule
-of vector art (a ring's hole stays empty, a face's eyes are cut out of it, a pupil inside
-an eye is filled); regions side by side are each filled.
+outline as a hole. A region lying inside another's outline is a hole of it, filled only
+inside a hole in turn: the even-odd rule of vector art (a ring's hole stays empty, a
+face's eyes are cut out of it, a pupil inside an eye is filled); regions side by side are
+each filled.
 
 Invariants: a region never reaches past the middle of the lines around it (a fill stays
 inside the lines); a white space narrower than ``2 * close`` is no region (a sliver
@@ -107,14 +107,14 @@ def line_regions(lines: list[np.ndarray], closed: list[bool], close: float,
     0
     """
     keep = [k for k, p in enumerate(lines) if len(p) >= 2]
+    if not keep or not close > 0:
+        return []
     lines = [np.vstack([lines[k], lines[k][:1]]) if closed[k] and len(lines[k]) > 2
              else lines[k] for k in keep]
     closed = [closed[k] for k in keep]
-    if reach > 0 and lines:
+    if reach > 0:
         lines = lines + extensions(lines, closed, reach, close)
     geoms = [shapely.LineString(p) for p in lines]
-    if not geoms or not close > 0:
-        return []
     ink = shapely.union_all(shapely.buffer(np.array(geoms), close, quad_segs=4))
     x0, y0, x1, y1 = ink.bounds
     frame = shapely.box(x0 - close, y0 - close, x1 + close, y1 + close)
