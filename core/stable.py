@@ -33,6 +33,7 @@ the new keyframe has no ink.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 
@@ -41,8 +42,8 @@ from .arrays.polylines import resample_polyline
 from .params import ALONG_COS
 from .sketch import Stroke
 
-__all__ = ["DAMPING", "HELD", "MISSED", "PART", "ROUNDS", "STILL", "Motion", "carried", "held_to",
-           "motion_onto"]
+__all__ = ["DAMPING", "HELD", "MISSED", "PART", "ROUNDS", "STILL", "Carried", "Motion",
+           "carried", "held_to", "motion_onto"]
 
 #: a previous stroke with more than this share of it off the new result is not kept
 MISSED = 0.05
@@ -179,9 +180,23 @@ def carried(strokes: list[Stroke], current: list[Stroke], width: float,
     >>> carried([line], [Stroke(line.points + [0.01, 0.0])], 1.0)[0] is line  # still
     True
     """
+    return _carried(strokes, current, width, support).strokes
+
+
+class Carried(NamedTuple):
+    """Strokes carried onto a keyframe's lines (:func:`carried`), and where they now lie."""
+
+    strokes: list[Stroke]
+    shares: np.ndarray  #: the share of each within the width of the support
+    near: list[set[int]]  #: the support's strokes each comes within the width of
+
+
+def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
+             support: list[Stroke] | None) -> Carried:
+    support = current if support is None else support
     lines = [c.points for c in current if len(c.points) >= 2]
     if not strokes or not lines:
-        return list(strokes)
+        return Carried(list(strokes), *_near(strokes, support, width))
     segs = Segments.of(lines)
     spacing = width / 4
     points = [resample_polyline(s.points, spacing) for s in strokes]
@@ -204,11 +219,12 @@ def carried(strokes: list[Stroke], current: list[Stroke], width: float,
                            bezier=None if stroke.bezier is None else motion(stroke.bezier)))
     # a stroke the fit took farther off what holds it (matched to the wrong lines) stays
     # as it was
-    support = current if support is None else support
-    after, _ = _near(out, support, width)
-    before, _ = _near(strokes, support, width)
-    return [moved if a >= b else stroke
-            for moved, stroke, a, b in zip(out, strokes, after, before)]
+    after, after_near = _near(out, support, width)
+    before, before_near = _near(strokes, support, width)
+    moved = after >= before
+    return Carried([m if ok else s for m, s, ok in zip(out, strokes, moved)],
+                   np.where(moved, after, before),
+                   [a if ok else b for a, b, ok in zip(after_near, before_near, moved)])
 
 
 def held_to(previous: list[Stroke], current: list[Stroke], width: float,
@@ -255,9 +271,9 @@ def held_to(previous: list[Stroke], current: list[Stroke], width: float,
         ids = [(s.source_id if s.source_id is not None else k,) for k, s in enumerate(ink)]
     # carried first, then judged where they now lie: a drawing moved by most of the width
     # in a key, redrawn, would leave too much of a stroke off its own ink to be kept
-    moved = carried(previous, current, width, support)
-    on_support, along = _near(moved, support, width)
+    moved = _carried(previous, current, width, support)
     kept = [replace(m, sources=tuple(sorted({i for c in near for i in ids[c]})))
-            for m, share, near in zip(moved, on_support, along) if share >= 1 - MISSED]
+            for m, share, near in zip(moved.strokes, moved.shares, moved.near)
+            if share >= 1 - MISSED]
     on_kept, _ = _near(current, kept, width)
     return kept + [c for c, share in zip(current, on_kept) if share < HELD]
