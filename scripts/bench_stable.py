@@ -31,13 +31,13 @@ import time
 from pathlib import Path
 
 import numpy as np
-import shapely
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from bench_simplify import diagonal, machine_pace  # noqa: E402
+from metrics import nearest_distances  # noqa: E402
 
 from core import Sketch, Stroke, held_to, read_sketch, simplify  # noqa: E402
 
@@ -87,12 +87,9 @@ def shot(sketch: Sketch, frames: int, shift: float, turn: float, noise: float,
 
 
 def _mean_distance(a: list[Stroke], b: list[Stroke]) -> float:
-    if not a or not b:
-        return float("nan")
-    pa = np.concatenate([s.points for s in a])
-    lines = shapely.multilinestrings([shapely.LineString(s.points) for s in b
-                                      if len(s.points) >= 2])
-    return float(np.mean(shapely.distance(shapely.points(pa), lines)))
+    """The mean distance of ``a``'s points to ``b``'s lines (:func:`metrics.nearest_distances`)."""
+    return float(nearest_distances(np.concatenate([s.points for s in a]),
+                                   [s.points for s in b]).mean())
 
 
 def run_shot(keys: list[Sketch], moves: list, d: float, drawn: list[Stroke]) -> dict:
