@@ -59,9 +59,9 @@ class SimplifyOptions:
         "drawing moved or turned")
     fill_regions: BoolProperty(
         name="Fill Regions", default=False,
-        description="Also write the closed regions of the simplified drawing as fills, on a "
-        "layer under the lines (with the object's first fill material, or a new one); holes "
-        "stay holes. Not for As Curve Object")
+        description="Also write the regions the clean lines close as fills, on a layer "
+        "under the lines (with the object's first fill material, or a new one); holes stay "
+        "holes. Not for As Curve Object")
     as_curve: BoolProperty(name="As Curve Object", default=False,
                            description="Write the result as a Bezier curve object (one per "
                            "layer, from the first drawing simplified) instead of strokes")
