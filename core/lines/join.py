@@ -20,8 +20,10 @@ of them in place, ``tuning.join_share`` of it within ``tuning.join_reach`` d_eps
 joint line (:func:`core.lines.fit.regroup`): that is the fit validating the group, as
 StrokeStrip's joint parameterization does; two lines drawn close would both move onto a
 line between them, and a line joined on round a corner would be pulled off its ink. A
-chain of pairs whose joint fit fails is judged pair by pair. For up to ``ROUNDS``
-rounds. Not at epsilon 0.
+chain of pairs whose joint fit fails is judged pair by pair, each line joined once a
+round. Rounds go on until one joins nothing (at most ``ROUNDS``): a line joined with
+one neighbour may then join the next, and a line drawn in many passes ends as one line,
+not as the two or three a fixed count of rounds left. Not at epsilon 0.
 
 Invariant: every pair is judged on the lines alone, all pairs of a round at once: the
 result does not depend on any order of judging.
@@ -40,8 +42,9 @@ from .work import Line, Work
 
 __all__ = ["ROUNDS", "half_widths", "joined_pairs", "one_band", "run"]
 
-#: joined lines may pair again with their neighbours: rounds of judging at most
-ROUNDS = 2
+#: joined lines may pair again with their neighbours: rounds of judging at most (a
+#: cap only: the rounds stop where one joins nothing, within 5 on the dev sketches)
+ROUNDS = 8
 
 
 def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
@@ -120,5 +123,8 @@ def run(work: Work) -> Work:
                                                 along_pairs(lines, work)]), work)
         if not len(pairs):
             break
-        lines = regroup(lines, pairs, work)
+        joined = regroup(lines, pairs, work)
+        if len(joined) == len(lines):  # nothing joined: the next round would judge the same
+            break
+        lines = joined
     return work.with_(lines=lines)
