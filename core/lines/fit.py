@@ -389,13 +389,18 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
                  ln.meets) for k, ln in enumerate(lines) if k not in owner]
 
 
-def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
+def regroup(lines: list[Line], pairs: np.ndarray, work: Work,
+            fits: dict[tuple[int, ...], list[Line]] | None = None) -> list[Line]:
     """``lines`` with each connected set of ``pairs`` fitted again as one group, where the
     joint fit validates it (:func:`_joint_fits`); else, for a set of three lines or more,
     each of its pairs judged so on its own (a chain of pairs may join two lines drawn
-    twice each: each pair is one line, the chain is not); else they stay as they were."""
+    twice each: each pair is one line, the chain is not); else they stay as they were.
+    ``fits``: joint fits by their pieces, kept by a caller that regroups round after
+    round (a group's fit depends on its pieces and ``work`` alone; a chain refused in one
+    round comes back in the next)."""
     if not len(pairs):
         return lines
+    fits = {} if fits is None else fits
     joined = component_labels(len(lines), pairs).tolist()
     merged: dict[int, list[int]] = {}
     for k, label in enumerate(joined):
@@ -406,19 +411,28 @@ def regroup(lines: list[Line], pairs: np.ndarray, work: Work) -> list[Line]:
         if len(same) == 1:
             out.append(lines[same[0]])
             continue
-        joint = fit_group(sorted(m for k in same for m in lines[k].members), work)
+        joint = _fitted(sorted(m for k in same for m in lines[k].members), work, fits)
         if _joint_fits([lines[k] for k in same], joint, every, same, work):
             out += joint
         elif len(same) == 2:
             out += [lines[k] for k in same]
         else:  # a chain of pairs that is not one line: its pairs, each on its own
             inside = pairs[np.isin(pairs, same).all(axis=1)]
-            out += _pairwise(lines, inside, every, work)
+            out += _pairwise(lines, inside, every, work, fits)
     return out
 
 
-def _pairwise(lines: list[Line], pairs: np.ndarray, every: Segments, work: Work
-              ) -> list[Line]:
+def _fitted(members: list[int], work: Work, fits: dict[tuple[int, ...], list[Line]]
+            ) -> list[Line]:
+    """:func:`fit_group` of ``members``, once for each set of them in ``fits``."""
+    key = tuple(members)
+    if key not in fits:
+        fits[key] = fit_group(members, work)
+    return fits[key]
+
+
+def _pairwise(lines: list[Line], pairs: np.ndarray, every: Segments, work: Work,
+              fits: dict[tuple[int, ...], list[Line]]) -> list[Line]:
     """The lines of ``pairs`` (indices into ``lines``), each pair whose joint fit
     validates it joined, in the order of the pairs (each line joined once; a later round
     of pass 5 may join the joint lines on)."""
@@ -427,7 +441,7 @@ def _pairwise(lines: list[Line], pairs: np.ndarray, every: Segments, work: Work
     for a, b in pairs.tolist():
         if a in done or b in done:
             continue
-        joint = fit_group(sorted(lines[a].members + lines[b].members), work)
+        joint = _fitted(sorted(lines[a].members + lines[b].members), work, fits)
         if _joint_fits([lines[a], lines[b]], joint, every, [a, b], work):
             out += joint
             done.update((a, b))

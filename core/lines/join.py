@@ -118,12 +118,13 @@ def run(work: Work) -> Work:
     lines = work.current_lines()
     if not work.merged:
         return work.with_(lines=lines)
+    fits: dict = {}  # joint fits by their pieces, for this pass's rounds (fit.regroup)
     for _ in range(ROUNDS):
         pairs = one_band(lines, np.concatenate([joined_pairs(lines, work),
                                                 along_pairs(lines, work)]), work)
         if not len(pairs):
             break
-        joined = regroup(lines, pairs, work)
+        joined = regroup(lines, pairs, work, fits)
         if len(joined) == len(lines):  # nothing joined: the next round would judge the same
             break
         lines = joined
