@@ -82,14 +82,18 @@ def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
     return np.stack([a[ok], b[ok]], axis=1).astype(np.intp)
 
 
-def half_widths(lines: list[Line], work: Work) -> np.ndarray:
+def half_widths(lines: list[Line], work: Work,
+                known: dict[tuple[int, ...], float] | None = None) -> np.ndarray:
     """How far each line's own ink spreads from it: the 90th percentile of its pieces'
-    distances to it (0 for a single clean pass)."""
+    distances to it (0 for a single clean pass). ``known``: widths by pieces, kept by
+    the join's rounds, where every line is the fit of its pieces (:func:`run`)."""
+    known = {} if known is None else known
     out = np.zeros(len(lines))
     for k, ln in enumerate(lines):
-        ink = np.concatenate([work.pieces[m] for m in ln.members])
-        dist = project_on(ln.points, ink).distance
-        out[k] = float(np.percentile(dist, 90))
+        if ln.members not in known:
+            ink = np.concatenate([work.pieces[m] for m in ln.members])
+            known[ln.members] = float(np.percentile(project_on(ln.points, ink).distance, 90))
+        out[k] = known[ln.members]
     return out
 
 
@@ -118,10 +122,14 @@ def run(work: Work) -> Work:
     lines = work.current_lines()
     if not work.merged:
         return work.with_(lines=lines)
-    fits: dict = {}  # joint fits by their pieces, for this pass's rounds (fit.regroup)
+    # within this pass every line is its pieces' fit (pass 4's, or a join's): fits and
+    # widths are kept by pieces from round to round
+    fits: dict = {}
+    widths: dict = {}
     for _ in range(ROUNDS):
         pairs = one_band(lines, np.concatenate([joined_pairs(lines, work),
-                                                along_pairs(lines, work)]), work)
+                                                along_pairs(lines, work)]), work,
+                         half_widths(lines, work, widths))
         if not len(pairs):
             break
         joined = regroup(lines, pairs, work, fits)
