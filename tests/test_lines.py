@@ -232,20 +232,3 @@ def test_the_join_pass_keeps_close_lines_of_a_product_sketch_whole(name):
         sketch, SimplifyParams(lines="pen", skip=skip)).strokes], reference, diagonal)
         for skip in ((), ("join",))}
     assert whole[()] >= whole[("join",)] - 0.06
-
-
-def test_the_join_pass_runs_until_a_round_joins_nothing():
-    # a fixed two rounds left lines drawn in many passes as two or three lines side by
-    # side (each line joins once a round): judged again, they joined
-    require_data()
-    from core.lines import join
-
-    path = (DATA / "lift3d_opensketch/CurvedStrokesPython/full_clusters"
-            / "Professional2/vacuum_cleaner/view1/lines_separation/full_cluster.scap")
-    result = simplify(read_sketch(path))  # the merges are the same whatever the stage
-    after = {}
-    params = SimplifyParams(**{**result.params.as_dict(), "lines": "pen"}).resolved()
-    lines_from_pen(result.state, params, result._ink.unit_points,
-                   picture=lambda name, work: after.setdefault(name, work))
-    joined = after["join"]
-    assert len(join.run(joined).lines) == len(joined.lines)

@@ -21,9 +21,7 @@ joint line (:func:`core.lines.fit.regroup`): that is the fit validating the grou
 StrokeStrip's joint parameterization does; two lines drawn close would both move onto a
 line between them, and a line joined on round a corner would be pulled off its ink. A
 chain of pairs whose joint fit fails is judged pair by pair, each line joined once a
-round. Rounds go on until one joins nothing (at most ``ROUNDS``): a line joined with
-one neighbour may then join the next, and a line drawn in many passes ends as one line,
-not as the two or three a fixed count of rounds left. Not at epsilon 0.
+round. For up to ``ROUNDS`` rounds (fewer where one joins nothing). Not at epsilon 0.
 
 Invariant: every pair is judged on the lines alone, all pairs of a round at once: the
 result does not depend on any order of judging.
@@ -42,9 +40,10 @@ from .work import Line, Work
 
 __all__ = ["ROUNDS", "half_widths", "joined_pairs", "one_band", "run"]
 
-#: joined lines may pair again with their neighbours: rounds of judging at most (a
-#: cap only: the rounds stop where one joins nothing, within 5 on the dev sketches)
-ROUNDS = 8
+#: joined lines may pair again with their neighbours: rounds of judging at most. Run on
+#: until a round joins nothing (8), chains refused whole were joined up pair by pair and
+#: lines drawn close merged again (docs/decisions.md)
+ROUNDS = 2
 
 
 def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
