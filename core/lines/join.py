@@ -41,8 +41,8 @@ from .work import Line, Work
 __all__ = ["ROUNDS", "half_widths", "joined_pairs", "one_band", "run"]
 
 #: joined lines may pair again with their neighbours: rounds of judging at most. Run on
-#: until a round joins nothing (8), chains refused whole were joined up pair by pair and
-#: lines drawn close merged again (docs/decisions.md)
+#: until a round joins nothing, the later rounds joined lines drawn close again
+#: (Professional3/mixer; docs/decisions.md)
 ROUNDS = 2
 
 
@@ -132,7 +132,7 @@ def run(work: Work) -> Work:
         if not len(pairs):
             break
         joined = regroup(lines, pairs, work, fits)
-        if len(joined) == len(lines):  # nothing joined: the next round would judge the same
-            break
+        if not {id(ln) for ln in joined} - {id(ln) for ln in lines}:
+            break  # no new line: the next round would judge the same lines again
         lines = joined
     return work.with_(lines=lines)
