@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .fit import absorb_lines
-from .join import half_widths, one_band
+from .join import one_band
 from .work import Work
 
 __all__ = ["run"]
@@ -23,9 +23,9 @@ def run(work: Work) -> Work:
     lines = work.current_lines()
     if not work.merged:
         return work.with_(lines=lines)
-    width = half_widths(lines, work)  # once: asked about pair by pair
+    widths: dict = {}  # each line's, once: asked about pair by pair
 
     def band(k: int, o: int) -> bool:
-        return len(one_band(lines, np.array([[k, o]]), work, width)) == 1
+        return len(one_band(lines, np.array([[k, o]]), work, widths)) == 1
 
     return work.with_(lines=absorb_lines(lines, work, band))

@@ -38,7 +38,7 @@ from ..merge.fourier import curve_descriptors, fd_distance
 from .fit import along_pairs, regroup
 from .work import Line, Work
 
-__all__ = ["ROUNDS", "half_widths", "joined_pairs", "one_band", "run"]
+__all__ = ["ROUNDS", "half_width", "joined_pairs", "one_band", "run"]
 
 #: joined lines may pair again with their neighbours: rounds of judging at most. Run on
 #: until a round joins nothing, the later rounds joined lines drawn close again
@@ -81,39 +81,37 @@ def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
     return np.stack([a[ok], b[ok]], axis=1).astype(np.intp)
 
 
-def half_widths(lines: list[Line], work: Work,
-                known: dict[tuple[int, ...], float] | None = None) -> np.ndarray:
-    """How far each line's own ink spreads from it: the 90th percentile of its pieces'
-    distances to it (0 for a single clean pass). ``known``: widths by pieces, kept by
-    the join's rounds, where every line is the fit of its pieces (:func:`run`)."""
-    known = {} if known is None else known
-    out = np.zeros(len(lines))
-    for k, ln in enumerate(lines):
-        if ln.members not in known:
-            ink = np.concatenate([work.pieces[m] for m in ln.members])
-            known[ln.members] = float(np.percentile(project_on(ln.points, ink).distance, 90))
-        out[k] = known[ln.members]
-    return out
+def half_width(line: Line, work: Work, known: dict[tuple[int, ...], float]) -> float:
+    """How far a line's own ink spreads from it: the 90th percentile of its pieces'
+    distances to it (0 for a single clean pass). ``known``: widths by pieces, filled
+    here; a line is the fit of its pieces wherever one set of lines is asked about (and
+    within pass 5, from round to round), so the pieces say which line it is."""
+    if line.members not in known:
+        ink = np.concatenate([work.pieces[m] for m in line.members])
+        known[line.members] = float(np.percentile(project_on(line.points, ink).distance,
+                                                  90))
+    return known[line.members]
 
 
 def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
-             width: np.ndarray | None = None) -> np.ndarray:
+             known: dict[tuple[int, ...], float] | None = None) -> np.ndarray:
     """The pairs whose inks leave no band free of ink wider than ``params.fill_gap`` (the
     drawing's own spacing of passes within a bundle) between them: the gap between the
     lines (the median distance from the shorter's points beside the longer to it) less
-    the half-widths of both inks. Two tight bundles drawn close keep a clear band; the
-    passes of one loose line fill it. ``width``: the lines' :func:`half_widths`, where a
-    caller asks about many pairs of the same lines."""
+    the half-widths of both inks (:func:`half_width`). Two tight bundles drawn close keep
+    a clear band; the passes of one loose line fill it. ``known``: the half-widths by
+    pieces, kept by a caller that asks about many pairs of the same lines."""
     if not len(pairs):
         return pairs
-    width = half_widths(lines, work) if width is None else width
+    known = {} if known is None else known
     keep = np.zeros(len(pairs), bool)
     for k, (a, b) in enumerate(pairs.tolist()):
         short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)
         dist = project_on(lines[long_].points, lines[short].points).distance
         beside = dist[dist <= work.d]
         gap = float(np.median(beside)) if len(beside) else float(dist.min())
-        keep[k] = gap - width[a] - width[b] <= work.params.fill_gap
+        keep[k] = (gap - half_width(lines[a], work, known) - half_width(lines[b], work, known)
+                   <= work.params.fill_gap)
     return pairs[keep]
 
 
@@ -128,7 +126,7 @@ def run(work: Work) -> Work:
     for _ in range(ROUNDS):
         pairs = one_band(lines, np.concatenate([joined_pairs(lines, work),
                                                 along_pairs(lines, work)]), work,
-                         half_widths(lines, work, widths))
+                         widths)
         if not len(pairs):
             break
         joined = regroup(lines, pairs, work, fits)
