@@ -177,6 +177,16 @@ def test_every_pass_is_timed_and_drawn_and_an_unknown_one_is_refused():
         SimplifyParams(lines="chains")
 
 
+def test_the_pass_pictures_draw_one_panel_per_pass_in_order(tmp_path):
+    from pen_passes import draw
+    out = tmp_path / "passes.png"
+    titles = draw(SAMPLES / "house.scap", out, SimplifyParams(lines="pen"))
+    assert [t.split(":")[0] for t in titles] == [name for name, _ in PASSES]
+    strokes = simplify(read_sketch(SAMPLES / "house.scap"), SimplifyParams(lines="pen")).strokes
+    assert titles[-1] == f"bezier: {len(strokes)} strokes"  # the run's own lines, drawn again
+    assert out.stat().st_size > 10_000  # a picture, not an empty canvas
+
+
 def test_params_with_the_pen_stage_travel_as_plain_data_and_come_back_equal():
     # a batch sends params to a cluster's workers as a dict, or as JSON
     import json
