@@ -93,7 +93,8 @@ class Tuning:
                     within about half a bundle width, and two lines drawn close (a rim's
                     nested ellipses, a box's doubled edge) would both move to a line
                     between them
-    join_share      see join_reach; 0.6: a loose pass's ends may leave the joint line
+    join_share      see join_reach; 0.8: a line kept whole by the joint line, as the
+                    clean-lines issue counts a whole line (80% of it within the reach)
     apart           ... or where no other line lies within this many times the farthest
                     move along half the joint line: passes of one loose line in open paper
                     (StrokeAggregator's judging against the local spacing of lines)
@@ -132,7 +133,7 @@ class Tuning:
     member_reach: float = 1.5
     along_share: float = 0.6
     join_reach: float = 0.5
-    join_share: float = 0.6
+    join_share: float = 0.8
     apart: float = 3.0
     bin: float = 0.25
     smooth: float = 0.5
