@@ -38,6 +38,7 @@ as before; a wider result is never kept that leaves more ink out than KEEP_LEFT.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -54,7 +55,8 @@ from .io.cleaning import (
     drawing_strokes,
     normalised_strokes,
 )
-from .lines import lines_from_pen
+from .lines import PenRun, lines_from_pen
+from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
 from .output.attributes import NearestInk
 from .output.bezier import sample_bezier
@@ -133,6 +135,15 @@ class SimplifyResult:
     def bundle_width(self) -> float:
         """The bundle width used, d_eps = alpha * D, in the sketch's own units."""
         return self.params.alpha * self.normalisation.scale
+
+    def pen_passes(self, picture: Callable[[str, Work], None]) -> PenRun:
+        """The pen stage (:func:`core.lines.lines_from_pen`) run again on this result's
+        simplified complex and cleaned strokes, handing the work after each pass to
+        ``picture`` (debug pictures, ``scripts/pen_passes.py``). The stage is a function of
+        the complex, the params and the strokes alone, so these are the lines a pen-stage
+        run made."""
+        return lines_from_pen(self.state, self.params.resolved(), self._ink.unit_points,
+                              picture=picture)
 
     def to_sketch(self) -> Sketch:
         src = self._input

@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from core import SimplifyParams, read_sketch, simplify  # noqa: E402
-from core.lines import PASSES, lines_from_pen  # noqa: E402
+from core.lines import PASSES  # noqa: E402
 
 __all__ = ["draw", "main"]
 
@@ -74,11 +74,8 @@ def draw(sketch_path: Path, out: Path, params: SimplifyParams,
     """
     sketch = read_sketch(sketch_path)
     result = simplify(sketch, params)
-    # the stage run again on the simplified complex, as the run made its lines: a function
-    # of the complex, the params and the strokes alone
     seen: list[tuple[str, object]] = []
-    lines_from_pen(result.state, result.params.resolved(), result._ink.unit_points,
-                   picture=lambda name, work: seen.append((name, work)))
+    result.pen_passes(lambda name, work: seen.append((name, work)))
     back = result.normalisation.from_unit
 
     ink = [s.points for s in sketch.strokes]

@@ -13,7 +13,7 @@ from metrics import whole_lines
 
 from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
 from core.arrays.geometry import project_on
-from core.lines import PASSES, lines_from_pen
+from core.lines import PASSES
 from core.sketch import SketchError
 
 CANVAS = 500.0
@@ -179,8 +179,7 @@ def test_every_pass_is_timed_and_drawn_and_an_unknown_one_is_refused():
     result = simplify(sketch, SimplifyParams(lines="pen"))
     assert {f"pen.{name}" for name, _ in PASSES} <= set(result.timings)
     seen = []
-    lines_from_pen(result.state, result.params.resolved(), result._ink.unit_points,
-                   picture=lambda name, work: seen.append((name, len(work.current_lines()))))
+    result.pen_passes(lambda name, work: seen.append((name, len(work.current_lines()))))
     assert [name for name, _ in seen] == [name for name, _ in PASSES]
     with pytest.raises(SketchError, match="unknown pass"):
         simplify(sketch, SimplifyParams(lines="pen", skip=("nonsense",)))
