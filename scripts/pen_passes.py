@@ -34,7 +34,8 @@ __all__ = ["draw", "main"]
 COLOURS = plt.cm.tab10.colors
 
 
-def _panel(ax, name: str, work, ink: list[np.ndarray], back) -> None:
+def _panel(ax, name: str, work, ink: list[np.ndarray], back) -> str:
+    """Draw what pass ``name`` made over the ink; returns the panel's title."""
     for s in ink:
         ax.plot(*s.T, lw=1.5, color="0.9")
     if name in ("pieces", "follow", "group"):
@@ -63,6 +64,7 @@ def _panel(ax, name: str, work, ink: list[np.ndarray], back) -> None:
         else:
             title = f"{name}: {len(lines)} lines"
     ax.set_title(title, fontsize=9)
+    return title
 
 
 def draw(sketch_path: Path, out: Path, params: SimplifyParams,
@@ -86,10 +88,7 @@ def draw(sketch_path: Path, out: Path, params: SimplifyParams,
     aspect = max(0.2, min(5.0, (box[3] - box[1]) / max(box[2] - box[0], 1e-12)))
     fig, axes = plt.subplots(rows, cols, figsize=(6 * cols, 6 * aspect * rows + 0.3 * rows),
                              squeeze=False)
-    summary = []
-    for ax, (name, work) in zip(axes.ravel(), seen):
-        _panel(ax, name, work, ink, back)
-        summary.append(ax.get_title())
+    summary = [_panel(ax, name, work, ink, back) for ax, (name, work) in zip(axes.ravel(), seen)]
     for ax in axes.ravel():
         ax.set_aspect("equal")
         if zoom:
