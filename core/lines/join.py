@@ -40,9 +40,8 @@ from .work import Line, Work
 
 __all__ = ["ROUNDS", "half_width", "joined_pairs", "one_band", "run"]
 
-#: joined lines may pair again with their neighbours: rounds of judging at most. Run on
-#: until a round joins nothing, the later rounds joined lines drawn close again
-#: (Professional3/mixer; docs/decisions.md)
+#: joined lines may pair again with their neighbours: rounds of judging at most (why not
+#: until a round joins nothing: docs/decisions.md)
 ROUNDS = 2
 
 
