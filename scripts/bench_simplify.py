@@ -39,6 +39,7 @@ from metrics import (  # noqa: E402
     doubled,
     doubled_on_reference,
     fidelity,
+    moved,
     precision_recall_f,
     too_wide,
     whole_lines,
@@ -146,7 +147,10 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     cluster, :func:`metrics.cluster_reference`): whole_lines (the share of reference curves
     80% within 0.6% of D of one output stroke) and whole_lines_input (the same of the rough
     strokes), doubled_ref (the share of the reference two output strokes run along), and
-    chamfer_px (symmetric Chamfer distance to the reference).
+    chamfer_px (symmetric Chamfer distance to the reference). And of the reference alone:
+    doubled_ref_floor, doubled_ref of the reference itself moved 0.1% of D
+    (:func:`metrics.moved`), what lines drawn straight through small-angle crossings
+    cannot go below unless they lie closer than that to the reference.
     """
     n_intended, reference = intended_curves(path, sketch)
     diag = diagonal(sketch)
@@ -169,6 +173,7 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
             "whole_lines": whole_lines(out, ref, diag),
             "whole_lines_input": whole_lines(ink, ref, diag),
             "doubled_ref": doubled_on_reference(out, ref, diag),
+            "doubled_ref_floor": doubled_on_reference(moved(ref, 0.001 * diag), ref, diag),
             "chamfer_px": chamfer(out, ref)}
     return row
 

@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from metrics import chamfer, changed, coverage, doubled, fidelity, precision_recall_f, too_wide
+from metrics import (
+    chamfer,
+    changed,
+    coverage,
+    doubled,
+    doubled_on_reference,
+    fidelity,
+    moved,
+    precision_recall_f,
+    too_wide,
+)
 
 
 def drawing():
@@ -102,3 +112,16 @@ def test_changed_is_the_share_of_either_drawing_away_from_the_other():
     assert changed([line(0.0)], [line(0.0)], tol=1.0, spacing=1.0) == 0.0
     assert changed([line(0.0)], [line(0.0), line(100.0)], tol=1.0,
                    spacing=1.0) == pytest.approx(0.5, abs=0.01)
+
+
+def test_lines_through_a_small_angle_crossing_a_little_off_count_as_doubled_unless_cut_there():
+    """Why doubled_on_reference has a floor (``metrics.moved``): two straight lines crossing
+    at 6 degrees, drawn 0.1% of the diagonal off, are doubled around the crossing; cut at
+    the crossing, that stretch lies within their ends, and nothing is."""
+    t = np.linspace(0, 400, 401)[:, None]
+    cross = [np.hstack([t, 0 * t]), np.hstack([t, 0.1 * (t - 200)])]
+    off = moved(cross, 0.5)
+    assert doubled_on_reference(cross, cross, 500.0) == 0.0
+    assert doubled_on_reference(off, cross, 500.0) > 0.01
+    cut = [part for line in off for part in (line[:201], line[200:])]
+    assert doubled_on_reference(cut, cross, 500.0) == 0.0
