@@ -308,8 +308,9 @@ def moved(reference: list[np.ndarray], distance: float) -> list[np.ndarray]:
     stroke lying a little off its own curve is nearer the other one along a stretch
     (about ``distance`` over the sine of the angle), so any drawing that goes straight
     through such crossings and is not exact counts there; cut at the crossings, the
-    stretches fall within its strokes' ends, which the measure leaves out. The reference
-    moved by 0.1% of the diagonal (a Chamfer distance of 0.1%) is its floor for such lines.
+    stretches fall within its strokes' ends, which the measure leaves out. What the
+    reference moved by 0.1% of the diagonal scores is a floor for lines drawn through the
+    crossings no closer than that to the reference.
 
     >>> t = np.linspace(0, 400, 81)[:, None]
     >>> cross = [np.hstack([t, 0 * t]), np.hstack([t, 0.1 * (t - 200)])]  # 6 degrees
