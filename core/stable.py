@@ -19,7 +19,9 @@ whole: a straight stroke alone cannot say how far it slid along itself), then fo
 stroke on top (a part moved on its own). Redrawn in place, a result's lines move a little
 from key to key without the drawing moving: so the whole drawing is moved only where its
 motion exceeds ``STILL`` of the width, and a stroke on its own only where its own exceeds
-``PART``; otherwise a kept stroke stays exactly where it was, and does not boil.
+``PART`` and brings it nearer the keyframe's ink than the whole drawing's motion does (a
+result may place a line elsewhere within the same ink: the ink says whether that part
+moved); otherwise a kept stroke stays exactly where it was, and does not boil.
 
 Given the keyframe's ink, a previous stroke is kept where the ink still runs along it
 (the drawing did not change there), though the keyframe's own result dropped or shortened
@@ -55,7 +57,8 @@ HELD = 0.5
 #: of the whole drawing's motion moves about a twentieth of the width (scripts/bench_stable.py)
 STILL = 0.075
 #: ... and a stroke moves on its own, on top, only where its own motion differs by more
-#: than this: redrawn in place, a single stroke's fit moves up to a fifth of the width
+#: than this (and the ink agrees, see the module): redrawn in place, most single strokes'
+#: fits move up to a fifth of the width
 PART = 0.25
 #: fits of the motion, each from where the last took the strokes: a drawing moved about the
 #: bundle width in a key is followed to within a hundredth of it in three
@@ -204,14 +207,19 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
     flat = np.concatenate(points)
     if np.mean(np.hypot(*(whole(flat) - flat).T)) < STILL * width:
         whole = STILLNESS
+    drawn = [s.points for s in support if len(s.points) >= 2]
+    ink = Segments.of(drawn) if drawn else None  # dots say nothing of where a line is
     out = []
     for stroke, pts in zip(strokes, points):
         # its own motion only where the new lines run along most of it (a stroke the new
-        # result lacks is not pulled by the lines that merely meet its ends)
+        # result lacks is not pulled by the lines that merely meet its ends), and where it
+        # brings the stroke nearer the ink than the whole drawing's motion does: a line the
+        # keyframe's result placed elsewhere in the same ink is no motion of the drawing
         own = _fitted([pts], segs, width, whole, ROUNDS) \
             if 2 * len(_feet(whole(pts), segs, width)[0]) >= len(pts) else whole
-        motion = own if np.mean(np.hypot(*(own(pts) - whole(pts)).T)) >= PART * width \
-            else whole
+        motion = own if (np.mean(np.hypot(*(own(pts) - whole(pts)).T)) >= PART * width
+                         and (ink is None or ink.distance(own(pts)).mean()
+                              < ink.distance(whole(pts)).mean())) else whole
         if motion is STILLNESS:
             out.append(stroke)
             continue

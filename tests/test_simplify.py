@@ -939,6 +939,33 @@ def test_a_drawing_moved_from_key_to_key_is_followed_by_its_held_lines(shift, tu
     assert max(lags) < 0.001 and max(counts) - min(counts) <= 1
 
 
+def test_a_line_the_result_places_elsewhere_in_still_ink_stays_where_moved_ink_takes_it():
+    """Redrawn in place, a keyframe's result may place one line half a bundle width off in
+    the same ink: held, that line stays where it was (the drawing did not move there). Where
+    its ink moved with it (a part animated on its own), the line follows it."""
+    from core import held_to
+
+    width = 1.0
+    t = np.linspace(0.0, 20.0, 81)[:, None]
+    sides = [np.hstack([t, 0 * t]), np.hstack([0 * t + 20, t]), np.hstack([20 - t, 0 * t + 20]),
+             np.hstack([0 * t, 20 - t])]
+    across = [np.array([0.0, 1.0]), np.array([1.0, 0.0]), np.array([0.0, 1.0]),
+              np.array([1.0, 0.0])]
+    previous = [Stroke(p) for p in sides]
+    off = 0.5 * width * across[3]
+    current = previous[:3] + [Stroke(sides[3] + off)]
+
+    def ink(moved: bool) -> list[Stroke]:  # three passes along each side
+        return [Stroke(p + d * width * n + (off if moved and k == 3 else 0))
+                for k, (p, n) in enumerate(zip(sides, across)) for d in (-0.1, 0.0, 0.1)]
+
+    still = held_to(previous, current, width, ink(moved=False))
+    assert len(still) == 4 and any(np.array_equal(h.points, sides[3]) for h in still)
+    followed = held_to(previous, current, width, ink(moved=True))
+    assert len(followed) == 4
+    assert min(float(np.abs(h.points - (sides[3] + off)).max()) for h in followed) < 0.05
+
+
 def test_a_line_a_keyframe_result_drops_is_held_while_its_ink_is_there():
     """Redrawn from key to key, a result may drop a line or end it shorter in one key and
     not the next. Held to the keyframe's ink, the line stays (the drawing did not change
