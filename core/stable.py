@@ -217,9 +217,10 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
         # keyframe's result placed elsewhere in the same ink is no motion of the drawing
         own = _fitted([pts], segs, width, whole, ROUNDS) \
             if 2 * len(_feet(whole(pts), segs, width)[0]) >= len(pts) else whole
-        motion = own if (np.mean(np.hypot(*(own(pts) - whole(pts)).T)) >= PART * width
-                         and (ink is None or ink.distance(own(pts)).mean()
-                              < ink.distance(whole(pts)).mean())) else whole
+        by_own, by_whole = own(pts), whole(pts)
+        motion = own if (np.mean(np.hypot(*(by_own - by_whole).T)) >= PART * width
+                         and (ink is None or ink.distance(by_own).mean()
+                              < ink.distance(by_whole).mean())) else whole
         if motion is STILLNESS:
             out.append(stroke)
             continue
