@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .arrays.geometry import Reached, Segments, tangents
+from .arrays.geometry import Reached, Segments, tangents, tangents_each
 from .arrays.polylines import resample_polyline
 from .params import ALONG_COS
 from .sketch import Stroke
@@ -130,12 +130,14 @@ def motion_onto(points: np.ndarray, feet: np.ndarray, normal: np.ndarray) -> Mot
     return Motion(turn, middle - turn @ middle + np.array([dx, dy]))
 
 
-def _feet(points: np.ndarray, lines: Segments, reach: float
-          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _feet(points: np.ndarray, lines: Segments, reach: float,
+          tangent: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Which of the evenly spaced ``points`` have a line of ``lines`` running along them
     within ``reach``; the nearest point of such a line to each of them, and that line's
-    unit normal there."""
-    i, seg = lines.running_along(points, tangents(points), reach, ALONG_COS)
+    unit normal there. ``points`` may be several polylines end to end, given their
+    ``tangent`` (:func:`tangents_each`); one tree query for them all."""
+    tangent = tangents(points) if tangent is None else tangent
+    i, seg = lines.running_along(points, tangent, reach, ALONG_COS)
     if not len(i):
         return np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros((0, 2))
     foot = lines.foot(seg, lines.along(seg, points[i]))
@@ -146,25 +148,36 @@ def _feet(points: np.ndarray, lines: Segments, reach: float
     return i[first], foot[first], normal
 
 
-def _fitted(points: list[np.ndarray], lines: Segments, reach: float, start: Motion,
-            rounds: int) -> Motion:
-    """``start``, then the motion that takes ``points`` onto the ``lines`` running along
-    them (:func:`motion_onto`), refined ``rounds`` times from where the last one took
-    them (as ICP does); the matches farther than three times the median are left out of
-    each step (a point whose nearest line along it is another line's)."""
-    motion = start
+def _fitted(groups: list[list[np.ndarray]], lines: Segments, reach: float,
+            starts: list[Motion], rounds: int) -> list[Motion]:
+    """For each group of polylines: its ``start``, then the motion that takes its points
+    onto the ``lines`` running along them (:func:`motion_onto`), refined ``rounds`` times
+    from where the last one took them (as ICP does); the matches farther than three times
+    the median are left out of each step (a point whose nearest line along it is another
+    line's). The groups are fitted apart, their points matched in one query a round."""
+    motions = list(starts)
+    active = list(range(len(groups)))
     for _ in range(rounds):
-        moved = [motion(p) for p in points]
-        found = [_feet(p, lines, reach) for p in moved]
-        src = np.concatenate([m[i] for m, (i, _, _) in zip(moved, found)])
-        if len(src) < 3:
+        if not active:
             break
-        dst = np.concatenate([f for _, f, _ in found])
-        normal = np.concatenate([n for _, _, n in found])
-        miss = np.abs(((dst - src) * normal).sum(axis=1))
-        fair = miss <= 3 * max(float(np.median(miss)), 1e-12 * reach)
-        motion = motion.then(motion_onto(src[fair], dst[fair], normal[fair]))
-    return motion
+        moved = [[motions[g](p) for p in groups[g]] for g in active]
+        sizes = [sum(map(len, m)) for m in moved]
+        flat = np.concatenate([p for m in moved for p in m])
+        i, foot, normal = _feet(flat, lines, reach,
+                                tangents_each([p for m in moved for p in m]))
+        cuts = np.searchsorted(i, np.cumsum(sizes)[:-1])
+        still = []
+        for g, mine, dst, nrm in zip(active, np.split(i, cuts), np.split(foot, cuts),
+                                     np.split(normal, cuts)):
+            if len(mine) < 3:
+                continue
+            src = flat[mine]
+            miss = np.abs(((dst - src) * nrm).sum(axis=1))
+            fair = miss <= 3 * max(float(np.median(miss)), 1e-12 * reach)
+            motions[g] = motions[g].then(motion_onto(src[fair], dst[fair], nrm[fair]))
+            still.append(g)
+        active = still
+    return motions
 
 
 def carried(strokes: list[Stroke], current: list[Stroke], width: float,
@@ -203,24 +216,38 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
     segs = Segments.of(lines)
     spacing = width / 4
     points = [resample_polyline(s.points, spacing) for s in strokes]
-    whole = _fitted(points, segs, width, STILLNESS, ROUNDS)
+    whole, = _fitted([points], segs, width, [STILLNESS], ROUNDS)
     flat = np.concatenate(points)
     if np.mean(np.hypot(*(whole(flat) - flat).T)) < STILL * width:
         whole = STILLNESS
     drawn = [s.points for s in support if len(s.points) >= 2]
     ink = Segments.of(drawn) if drawn else None  # dots say nothing of where a line is
+    # its own motion only where the new lines run along most of it (a stroke the new
+    # result lacks is not pulled by the lines that merely meet its ends), and where it
+    # brings the stroke nearer the ink than the whole drawing's motion does: a line the
+    # keyframe's result placed elsewhere in the same ink is no motion of the drawing
+    by_whole = [whole(p) for p in points]
+    sizes = np.fromiter(map(len, points), dtype=np.intp, count=len(points))
+    found = _feet(np.concatenate(by_whole), segs, width, tangents_each(by_whole))[0]
+    along = np.bincount(np.repeat(np.arange(len(points)), sizes)[found],
+                        minlength=len(points))
+    alone = [k for k in range(len(points)) if 2 * along[k] >= sizes[k]]
+    own = [whole] * len(points)
+    for k, motion in zip(alone, _fitted([[points[k]] for k in alone], segs, width,
+                                        [whole] * len(alone), ROUNDS)):
+        own[k] = motion
+    by_own = [m(p) for m, p in zip(own, points)]
+    far = [k for k in range(len(points))
+           if np.mean(np.hypot(*(by_own[k] - by_whole[k]).T)) >= PART * width]
+    nearer = set(far)
+    if ink is not None and far:
+        cuts = np.cumsum([len(points[k]) for k in far])[:-1]
+        mine = np.split(ink.distance(np.concatenate([by_own[k] for k in far])), cuts)
+        theirs = np.split(ink.distance(np.concatenate([by_whole[k] for k in far])), cuts)
+        nearer = {k for k, a, b in zip(far, mine, theirs) if a.mean() < b.mean()}
     out = []
-    for stroke, pts in zip(strokes, points):
-        # its own motion only where the new lines run along most of it (a stroke the new
-        # result lacks is not pulled by the lines that merely meet its ends), and where it
-        # brings the stroke nearer the ink than the whole drawing's motion does: a line the
-        # keyframe's result placed elsewhere in the same ink is no motion of the drawing
-        own = _fitted([pts], segs, width, whole, ROUNDS) \
-            if 2 * len(_feet(whole(pts), segs, width)[0]) >= len(pts) else whole
-        by_own, by_whole = own(pts), whole(pts)
-        motion = own if (np.mean(np.hypot(*(by_own - by_whole).T)) >= PART * width
-                         and (ink is None or ink.distance(by_own).mean()
-                              < ink.distance(by_whole).mean())) else whole
+    for k, stroke in enumerate(strokes):
+        motion = own[k] if k in nearer else whole
         if motion is STILLNESS:
             out.append(stroke)
             continue

@@ -15,7 +15,7 @@ from .polylines import arc_lengths, resample_each
 __all__ = [
     "Crossings", "Projection", "Reached", "Segments", "directions_at", "lines_from",
     "nearest_on", "polygons_from", "project_on", "ring_is_counter_clockwise",
-    "shoelace_terms", "split_coordinates", "tangents", "unit_rows",
+    "shoelace_terms", "split_coordinates", "tangents", "tangents_each", "unit_rows",
 ]
 
 
@@ -95,6 +95,31 @@ def tangents(points: np.ndarray, closed: bool = False) -> np.ndarray:
         return unit_rows(np.gradient(points, axis=0))
     ring = np.vstack([points[-2:-1], points, points[1:2]])
     return unit_rows(np.gradient(ring, axis=0)[1:-1])
+
+
+def tangents_each(polylines: list[np.ndarray]) -> np.ndarray:
+    """The :func:`tangents` of open polylines, end to end: (total points, 2), each one's
+    as it alone gives them, to the bit, in a few array operations.
+
+    >>> lines = [np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]), np.array([[5.0, 5.0]]),
+    ...          np.array([[0.0, 0.0], [0.0, 2.0]])]
+    >>> bool(np.array_equal(tangents_each(lines), np.concatenate([tangents(p) for p in lines])))
+    True
+    """
+    if not polylines:
+        return np.zeros((0, 2))
+    sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+    flat = np.concatenate(polylines).astype(float, copy=False)
+    out = np.zeros_like(flat)
+    if len(flat) > 2:  # np.gradient's central differences inside each polyline
+        out[1:-1] = (flat[2:] - flat[:-2]) / 2.0
+    last = np.cumsum(sizes) - 1
+    first = last - sizes + 1
+    two = sizes >= 2  # its one-sided differences at each end; a single point's is 0
+    out[first[two]] = flat[first[two] + 1] - flat[first[two]]
+    out[last[two]] = flat[last[two]] - flat[last[two] - 1]
+    out[first[~two]] = 0.0
+    return unit_rows(out)
 
 
 def nearest_on(lines, points) -> np.ndarray:
