@@ -1058,3 +1058,28 @@ def test_a_drawing_that_would_come_out_empty_is_refused_with_the_reason():
     with pytest.raises(SketchError, match="shorter than the bundle width"):
         simplify(Sketch([Stroke(s) for s in strokes]))
     assert simplify(Sketch([Stroke(s) for s in strokes]), SimplifyParams(epsilon=0)).strokes
+
+
+def test_strokes_fitted_together_move_each_as_it_would_fitted_alone():
+    """held_to matches every stroke's points in one tree query a round
+    (core.stable._fitted): each group's motion is the one it gets fitted on its own, to the
+    bit, including a group that finds no lines and stops early."""
+    from core.arrays.geometry import Segments
+    from core.arrays.polylines import resample_polyline
+    from core.stable import STILLNESS, _fitted
+
+    sketch = read_sketch(SAMPLES / "house.scap")
+    width = simplify(sketch).bundle_width
+    turn = np.radians(0.4)
+    rot = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+    lines = Segments.of([s.points @ rot.T + [0.3 * width, -0.2 * width]
+                         for s in sketch.strokes])
+    points = [resample_polyline(s.points, width / 4) for s in sketch.strokes]
+    far = [points[0] + 50 * width]  # no line within reach: no match, stays at its start
+    groups = [points] + [[p] for p in points] + [far]
+    together = _fitted(groups, lines, width, [STILLNESS] * len(groups), 3)
+    for group, motion in zip(groups, together):
+        (alone,) = _fitted([group], lines, width, [STILLNESS], 3)
+        assert np.array_equal(motion.turn, alone.turn)
+        assert np.array_equal(motion.shift, alone.shift)
+    assert together[-1] is STILLNESS and not np.allclose(together[0].shift, 0.0)
