@@ -8,6 +8,8 @@ Curves are (3k + 1, 2) arrays of control points: p0, c1, c2, p1, c1, c2, p2, ...
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from ..arrays.polylines import arc_lengths, end_to_end, gaussian_kernel, smoothed_ring, split
@@ -74,12 +76,21 @@ def subdivide_bezier(curve: np.ndarray, parts: int) -> np.ndarray:
     >>> subdivide_bezier(c, 2)[[0, 3, 6]].tolist()  # the middle knot is the curve at 1/2
     [[0.0, 0.0], [1.5, 1.5], [3.0, 0.0]]
     """
+    segments = curve[np.arange(0, len(curve) - 1, 3)[:, None] + np.arange(4)]  # (k, 4, d)
+    inner = np.einsum("pc,kcd->kpd", _subdivision_weights(parts),
+                      segments).reshape(-1, curve.shape[1])
+    return np.vstack([inner, curve[-1:]])
+
+
+@lru_cache(maxsize=8)
+def _subdivision_weights(parts: int) -> np.ndarray:
+    """(3 * parts, 4): the weights of a cubic's control points in the first three control
+    points of each of its ``parts`` pieces (a few sizes are asked for, each many times)."""
     edges = np.linspace(0.0, 1.0, parts + 1)
     weights = np.concatenate([np.stack([_blossom(a, a, a), _blossom(a, a, b),
                                         _blossom(a, b, b)]) for a, b in zip(edges, edges[1:])])
-    segments = np.stack([curve[i:i + 4] for i in range(0, len(curve) - 1, 3)])  # (k, 4, d)
-    inner = np.einsum("pc,kcd->kpd", weights, segments).reshape(-1, curve.shape[1])
-    return np.vstack([inner, curve[-1:]])
+    weights.flags.writeable = False
+    return weights
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
