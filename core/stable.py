@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .arrays.geometry import Reached, Segments, tangents, tangents_each
+from .arrays.geometry import Reached, Segments, tangents_each
 from .arrays.polylines import resample_polyline
 from .params import ALONG_COS
 from .sketch import Stroke
@@ -130,13 +130,12 @@ def motion_onto(points: np.ndarray, feet: np.ndarray, normal: np.ndarray) -> Mot
     return Motion(turn, middle - turn @ middle + np.array([dx, dy]))
 
 
-def _feet(points: np.ndarray, lines: Segments, reach: float,
-          tangent: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Which of the evenly spaced ``points`` have a line of ``lines`` running along them
-    within ``reach``; the nearest point of such a line to each of them, and that line's
-    unit normal there. ``points`` may be several polylines end to end, given their
-    ``tangent`` (:func:`tangents_each`); one tree query for them all."""
-    tangent = tangents(points) if tangent is None else tangent
+def _feet(points: np.ndarray, tangent: np.ndarray, lines: Segments, reach: float
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which of the evenly spaced ``points`` (polylines end to end, with their ``tangent``,
+    :func:`tangents_each`) have a line of ``lines`` running along them within ``reach``;
+    the nearest point of such a line to each of them, and that line's unit normal there.
+    One tree query for them all."""
     i, seg = lines.running_along(points, tangent, reach, ALONG_COS)
     if not len(i):
         return np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros((0, 2))
@@ -162,9 +161,9 @@ def _fitted(groups: list[list[np.ndarray]], lines: Segments, reach: float,
             break
         moved = [[motions[g](p) for p in groups[g]] for g in active]
         sizes = [sum(map(len, m)) for m in moved]
-        flat = np.concatenate([p for m in moved for p in m])
-        i, foot, normal = _feet(flat, lines, reach,
-                                tangents_each([p for m in moved for p in m]))
+        parts = [p for m in moved for p in m]
+        flat = np.concatenate(parts)
+        i, foot, normal = _feet(flat, tangents_each(parts), lines, reach)
         cuts = np.searchsorted(i, np.cumsum(sizes)[:-1])
         still = []
         for g, mine, dst, nrm in zip(active, np.split(i, cuts), np.split(foot, cuts),
@@ -228,7 +227,7 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
     # keyframe's result placed elsewhere in the same ink is no motion of the drawing
     by_whole = [whole(p) for p in points]
     sizes = np.fromiter(map(len, points), dtype=np.intp, count=len(points))
-    found = _feet(np.concatenate(by_whole), segs, width, tangents_each(by_whole))[0]
+    found = _feet(np.concatenate(by_whole), tangents_each(by_whole), segs, width)[0]
     along = np.bincount(np.repeat(np.arange(len(points)), sizes)[found],
                         minlength=len(points))
     alone = [k for k in range(len(points)) if 2 * along[k] >= sizes[k]]
@@ -241,7 +240,7 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
            if np.mean(np.hypot(*(by_own[k] - by_whole[k]).T)) >= PART * width]
     nearer = set(far)
     if ink is not None and far:
-        cuts = np.cumsum([len(points[k]) for k in far])[:-1]
+        cuts = np.cumsum(sizes[far])[:-1]
         mine = np.split(ink.distance(np.concatenate([by_own[k] for k in far])), cuts)
         theirs = np.split(ink.distance(np.concatenate([by_whole[k] for k in far])), cuts)
         nearer = {k for k, a, b in zip(far, mine, theirs) if a.mean() < b.mean()}
