@@ -25,6 +25,7 @@ or summary path that cannot be written.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import shutil
@@ -32,6 +33,7 @@ import sys
 import tempfile
 import time
 import traceback
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -173,7 +175,7 @@ def send_drawings(blend: Path | None, args, run, cluster, frames_mode, frame_ran
 
 
 def process(blend: Path | None, args, params, run, frames_mode, frame_range,
-            engine=None) -> dict:
+            engine=None, pool=None) -> dict:
     objects = open_objects(blend, args)
     scene = bpy.context.scene
     row = {"file": str(blend), "drawings": 0, "strokes_in": 0, "strokes_out": 0,
@@ -182,7 +184,7 @@ def process(blend: Path | None, args, params, run, frames_mode, frame_range,
         options = run_options(args, frames_mode)
         report, results = run.simplify_object(ob, options, params, scene.frame_current,
                                               jobs=args.jobs, frame_range=frame_range,
-                                              engine=engine)
+                                              engine=engine, pool=pool)
         for r in results:
             frames = ",".join(str(f.frame_number) for f in r.frames)
             print(f"  {ob.name} / {r.layer.name} frame {frames}: {len(r.chosen)} -> "
@@ -203,10 +205,12 @@ def main() -> int:
 
     load_extension()  # the repository as the extension package, nothing registered
     from sketchsimp.core import SimplifyParams, SketchError
+    from sketchsimp.core.parallel import default_jobs, local_pool
     from sketchsimp.sketchsimp_addon import run
 
     t0 = time.perf_counter()
     cluster = None
+    pools = contextlib.ExitStack()
     try:
         frames_mode, frame_range = parse_frames(args.frames)
         given = {k: getattr(args, k) for k in ("epsilon", "alpha", "samples")}
@@ -252,11 +256,15 @@ def main() -> int:
 
             def engine(sketches, regions):
                 return [cluster.result(cluster.submit(s)) for s in sketches]
+        # one pool of workers for every file, started while the first is read
+        jobs = default_jobs() if args.jobs is None else args.jobs
+        pool = pools.enter_context(local_pool(jobs)) if engine is None and jobs > 1 else None
         rows = []
         for blend in blends:
             print(f"{blend or bpy.data.filepath}:", flush=True)
             try:
-                row = process(blend, args, params, run, frames_mode, frame_range, engine)
+                row = process(blend, args, params, run, frames_mode, frame_range, engine,
+                              pool)
                 source = Path(bpy.data.filepath)
                 target = output_path(source, args, several)
                 if args.in_place:
@@ -264,6 +272,11 @@ def main() -> int:
                 bpy.ops.wm.save_as_mainfile(filepath=str(target), copy=not args.in_place)
             except FileError as exc:
                 fail(blend, str(exc))
+                continue
+            except BrokenProcessPool as exc:  # a worker died (killed, out of memory)
+                fail(blend, f"{blend or bpy.data.filepath}: a worker process died ({exc})")
+                pools.close()  # the next file gets a new pool
+                pool = pools.enter_context(local_pool(jobs))
                 continue
             except Exception as exc:  # one bad file must not stop a farm's batch
                 traceback.print_exc()
@@ -275,6 +288,7 @@ def main() -> int:
         print(f"batch_simplify: {exc}", file=sys.stderr)
         return 2
     finally:
+        pools.close()
         if cluster is not None:
             cluster.close()
     seconds = time.perf_counter() - t0

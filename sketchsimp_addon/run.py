@@ -408,12 +408,14 @@ class StepwiseRun:
 
 def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                     progress=None, jobs: int | None = None,
-                    frame_range: tuple[int, int] | None = None, engine=None
+                    frame_range: tuple[int, int] | None = None, engine=None, pool=None
                     ) -> tuple[RunReport, list[DrawingResult]]:
     """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
 
     Drawings are read here (:func:`gather_drawings`), simplified by the core (in ``jobs``
-    processes; by default a pool of all cores from :data:`POOL_FROM` drawings on; in this
+    processes, those of ``pool`` when given, a :func:`core.parallel.local_pool` kept by
+    the caller across objects and files; by default a pool of all cores from
+    :data:`POOL_FROM` drawings on; in this
     process through the :data:`REPLAY` cache, so that a new epsilon for the same drawing is
     a replay; or by ``engine(sketches, regions)``, e.g. a Dask cluster, when given), and
     turned into new strokes here. ``progress`` is called with the fraction of drawings done.
@@ -442,7 +444,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                               cover=max(REPLAY.cover(prepared[k].sketch, params)
                                         for k in todo),
                               records=[REPLAY.recorded(prepared[k].sketch, params)
-                                       for k in todo]) if todo else []
+                                       for k in todo], pool=pool) if todo else []
         outputs = [None] * len(prepared)
         for k, out in zip(todo, pooled):
             if not isinstance(out, SketchError) and out.record is not None:

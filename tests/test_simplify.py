@@ -193,6 +193,28 @@ def test_a_record_sent_back_by_a_worker_rebuilds_what_a_fresh_run_gives():
         assert [s.bezier.tolist() for s in out.strokes] == [s.bezier.tolist() for s in fresh]
 
 
+def test_a_started_pool_serves_every_call_with_the_same_workers_and_the_same_results():
+    """local_pool starts its workers once; simplify_all runs in them call after call (a
+    batch's files) and gives, to the bit, what the sketches give run here."""
+    from core.parallel import local_pool
+
+    sketches = [read_sketch(SAMPLES / f"{name}.scap") for name in ("cup", "house", "fish")]
+    here = simplify_all(sketches, SimplifyParams())
+    with local_pool(2) as pool:
+        workers = set(pool._processes)  # the pids, spawned by local_pool itself
+        assert len(workers) == 2
+        for _ in range(2):
+            queued = pool._queue_count  # work items sent to the workers so far
+            pooled = simplify_all(sketches, SimplifyParams(), pool=pool)
+            assert pool._queue_count == queued + len(sketches)  # run there, not here
+            assert set(pool._processes) == workers
+            for out, alone in zip(pooled, here):
+                assert [s.bezier.tolist() for s in out.strokes] == \
+                    [s.bezier.tolist() for s in alone.strokes]
+    with pytest.raises(SketchError, match="jobs"), local_pool(0):
+        pass
+
+
 def test_raising_epsilon_never_increases_the_primitives():
     sketch = read_sketch(SAMPLES / "cup.scap")
     counts = []
