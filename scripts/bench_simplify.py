@@ -150,7 +150,11 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     chamfer_px (symmetric Chamfer distance to the reference). And of the reference alone:
     doubled_ref_floor, doubled_ref of the reference itself moved 0.1% of D
     (:func:`metrics.moved`), what lines drawn straight through small-angle crossings
-    cannot go below unless they lie closer than that to the reference.
+    cannot go below unless they lie closer than that to the reference. Two variants for
+    the decision issue 32 asks for: whole_lines_twins (a reference curve lying along
+    another, a line drawn twice and fitted twice, whole where that one is) and
+    doubled_ref_clear (only along the reference away from other reference curves, where
+    the floor is 0).
     """
     n_intended, reference = intended_curves(path, sketch)
     diag = diagonal(sketch)
@@ -171,8 +175,10 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     ref = reference if reference is not None else cluster_reference(ink, clusters, diag)
     row |= {"reference": "drawn" if reference is not None else "clusters",
             "whole_lines": whole_lines(out, ref, diag),
+            "whole_lines_twins": whole_lines(out, ref, diag, twins=True),
             "whole_lines_input": whole_lines(ink, ref, diag),
             "doubled_ref": doubled_on_reference(out, ref, diag),
+            "doubled_ref_clear": doubled_on_reference(out, ref, diag, clear=True),
             "doubled_ref_floor": doubled_on_reference(moved(ref, 0.001 * diag), ref, diag),
             "chamfer_px": chamfer(out, ref)}
     return row

@@ -16,10 +16,14 @@ sampled along them every ``spacing`` units, so that long segments count by their
   output stroke over the same intended curve (a line left doubled);
 * changed(a, b, tol): the share of either drawing farther than ``tol`` from the other;
 * whole_lines(output, reference, diagonal): the share of reference curves of which at
-  least 80% of the length lies within 0.6% of the diagonal of ONE output stroke;
+  least 80% of the length lies within 0.6% of the diagonal of ONE output stroke; with
+  ``twins``, a curve that lies along another one (80% of it within that 0.6%: the same line
+  drawn twice, fitted twice by the reference) counts whole where that one is;
 * doubled_on_reference(output, reference, diagonal): the share of the reference's length
   along which two different output strokes run parallel within 1% of the diagonal, away
-  from their ends, each nearer that curve than any other;
+  from their ends, each nearer that curve than any other; with ``clear``, only along the
+  reference farther than that 1% from every other reference curve (away from crossings and
+  near-duplicates, where a line a little off its own curve is nearer the other);
 * moved(reference, distance): each reference curve moved rigidly by ``distance``, for the
   floor of doubled_on_reference: what it gives a drawing as exact as the reference save
   for that move, where lines go straight through the crossings;
@@ -231,10 +235,12 @@ def doubled_samples(output: list[np.ndarray], ink: list[np.ndarray], clusters: l
 
 
 def whole_lines(output: list[np.ndarray], reference: list[np.ndarray], diagonal: float,
-                tol_share: float = 0.006, share: float = 0.8) -> float:
+                tol_share: float = 0.006, share: float = 0.8, twins: bool = False) -> float:
     """The share of reference curves of which at least ``share`` of the length lies within
     ``tol_share`` of the diagonal of ONE output stroke: intended lines that come out whole.
-    Curves are sampled every 0.1% of the diagonal.
+    Curves are sampled every 0.1% of the diagonal. With ``twins``, a curve of which
+    ``share`` lies within ``tol_share`` of the diagonal of another reference curve (a line
+    drawn twice, fitted twice) counts whole where that one is.
 
     >>> t = np.linspace(0, 100, 11)[:, None]
     >>> ref = [np.hstack([t, 0 * t]), np.hstack([0 * t, t])]
@@ -242,28 +248,54 @@ def whole_lines(output: list[np.ndarray], reference: list[np.ndarray], diagonal:
     1.0
     >>> whole_lines([ref[0][:6], ref[0][5:], ref[1]], ref, 500.0)  # the first cut in half
     0.5
+    >>> twice = ref + [ref[0] + [0, 2.5]]  # the first drawn again 0.5% of 500 below it
+    >>> whole_lines([ref[0] - [0, 1], ref[1]], twice, 500.0)  # one line, 1 above: 3.5 off
+    0.6666666666666666
+    >>> whole_lines([ref[0] - [0, 1], ref[1]], twice, 500.0, twins=True)
+    1.0
     """
     points, which, _ = _samples(reference, 0.001 * diagonal)
     lines = _lines(output)
     if not len(points) or not len(lines):
         return 0.0
-    i, k = shapely.STRtree(lines).query(shapely.points(points), predicate="dwithin",
-                                        distance=tol_share * diagonal)
-    n_out = len(lines)
-    per_sample = np.unique(i * n_out + k)  # each (sample, output stroke) once
-    counts = np.bincount(which[per_sample // n_out] * n_out + per_sample % n_out,
-                         minlength=len(reference) * n_out)
-    best = counts.reshape(len(reference), n_out).max(axis=1)
+    tol = tol_share * diagonal
     total = np.bincount(which, minlength=len(reference))
+    needed = share * total[:, np.newaxis]
+    whole = (_near_counts(points, which, lines, len(reference), tol) >= needed).any(axis=1)
+    if twins:
+        own = np.asarray([k for k, p in enumerate(reference) if len(p) >= 2])
+        along = _near_counts(points, which, _lines(reference), len(reference), tol,
+                             exclude=own) >= needed  # curve r lies along curve own[j]
+        whole = whole | (along & whole[own][np.newaxis, :]).any(axis=1)
     curves = total > 0
-    return float((best[curves] >= share * total[curves]).mean())
+    return float(whole[curves].mean())
+
+
+def _near_counts(points: np.ndarray, which: np.ndarray, lines: np.ndarray, n_curves: int,
+                tol: float, exclude: np.ndarray | None = None) -> np.ndarray:
+    """For each curve (its samples ``points``, labelled ``which``), how many of its samples
+    lie within ``tol`` of each of ``lines``: shape (curves, lines). ``exclude``: for the
+    reference against itself, the curve of each line, whose own samples are not counted."""
+    i, k = shapely.STRtree(lines).query(shapely.points(points), predicate="dwithin",
+                                        distance=tol)
+    if exclude is not None:
+        keep = exclude[k] != which[i]
+        i, k = i[keep], k[keep]
+    n_lines = len(lines)
+    per_sample = np.unique(i * n_lines + k)  # each (sample, line) once
+    counts = np.bincount(which[per_sample // n_lines] * n_lines + per_sample % n_lines,
+                         minlength=n_curves * n_lines)
+    return counts.reshape(n_curves, n_lines)
 
 
 def doubled_on_reference(output: list[np.ndarray], reference: list[np.ndarray],
-                         diagonal: float) -> float:
+                         diagonal: float, clear: bool = False) -> float:
     """The share of the reference's length along which two different output strokes run
     parallel to it (|cos| >= 0.9) within 1% of the diagonal, each sample of them away from
     its stroke's ends (3% of the diagonal) and nearer that reference curve than any other.
+    With ``clear``, the share of the reference's length farther than 1% of the diagonal
+    from every other reference curve: there a drawing a little off the reference is not
+    counted doubled for lying nearer another curve (:func:`moved`).
 
     >>> t = np.linspace(0, 400, 41)[:, None]
     >>> ref = [np.hstack([t, 0 * t])]
@@ -271,6 +303,11 @@ def doubled_on_reference(output: list[np.ndarray], reference: list[np.ndarray],
     0.0
     >>> doubled_on_reference([ref[0], ref[0] + [0, 2]], ref, 500.0) > 0.8
     True
+    >>> cross = [ref[0], np.hstack([t, 0.05 * t - 10])]  # crossing at a small angle
+    >>> doubled_on_reference(moved(cross, 0.5), cross, 500.0) > 0  # the floor
+    True
+    >>> doubled_on_reference(moved(cross, 0.5), cross, 500.0, clear=True)
+    0.0
     """
     step = 0.0025 * diagonal
     rpts, rwhich, _ = _samples(reference, step)
@@ -296,7 +333,14 @@ def doubled_on_reference(output: list[np.ndarray], reference: list[np.ndarray],
     r, stroke = r[keep], owhich[o[keep]]
     pairs = np.unique(r * (len(output) + 1) + stroke)
     strokes_per_sample = np.bincount(pairs // (len(output) + 1), minlength=len(rpts))
-    return float((strokes_per_sample >= 2).mean())
+    counted = np.ones(len(rpts), dtype=bool)
+    if clear:
+        a, b = shapely.STRtree(rlines).query(shapely.points(rpts), predicate="dwithin",
+                                             distance=0.01 * diagonal)
+        counted[a[own[b] != rwhich[a]]] = False
+        if not counted.any():
+            return 0.0
+    return float((strokes_per_sample[counted] >= 2).mean())
 
 
 def moved(reference: list[np.ndarray], distance: float) -> list[np.ndarray]:

@@ -44,13 +44,15 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE.parent.parent / "shared" / "data"
-MEASURES = ("whole_lines", "whole_lines_input", "doubled_ref", "doubled_ref_floor",
+MEASURES = ("whole_lines", "whole_lines_twins", "whole_lines_input", "doubled_ref",
+            "doubled_ref_clear", "doubled_ref_floor",
             "chamfer_px", "doubled",
             "ink_kept", "coverage", "fidelity_px", "per_in", "per_intended", "f_score",
             "tight_recall", "too_wide")
 #: for each measure, whether higher is better (the worst are the other end)
-HIGHER_IS_BETTER = {"whole_lines": True, "whole_lines_input": True, "doubled_ref": False,
-                    "doubled_ref_floor": False,
+HIGHER_IS_BETTER = {"whole_lines": True, "whole_lines_twins": True,
+                    "whole_lines_input": True, "doubled_ref": False,
+                    "doubled_ref_clear": False, "doubled_ref_floor": False,
                     "chamfer_px": False, "doubled": False, "ink_kept": True, "coverage": True,
                     "fidelity_px": False,
                     "per_in": False, "per_intended": False, "f_score": True,
