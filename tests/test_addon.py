@@ -959,6 +959,26 @@ def test_many_keyframes_go_through_the_process_pool():
         assert len(r.new.knots) == len(pooled[r.frames[0].frame_number])
 
 
+def test_a_batch_pool_already_started_takes_even_two_keyframes(monkeypatch):
+    """A pool the caller keeps (a batch's, across files) runs two drawings already, where
+    one started for them would cost more than it saves; the strokes are the same."""
+    from sketchsimp.core import ReplayCache, SimplifyParams
+    from sketchsimp.core.parallel import local_pool
+    from sketchsimp.sketchsimp_addon import run
+
+    class Options:
+        scope, layers, fill_regions, as_curve, stable = "ALL", "ACTIVE", False, False, False
+
+    ob = make_object({1: "house", 5: "cup"})
+    _, here = run.simplify_object(ob, Options, SimplifyParams(), 1)  # 2 < POOL_FROM
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())  # nothing kept from that run
+    with local_pool(2) as pool:
+        queued = pool._queue_count  # work items sent to the workers so far
+        _, pooled = run.simplify_object(ob, Options, SimplifyParams(), 1, pool=pool)
+        assert pool._queue_count == queued + 2
+    assert [len(r.new.knots) for r in pooled] == [len(r.new.knots) for r in here] != []
+
+
 def test_an_epsilon_step_on_a_pooled_shot_replays_every_drawing(monkeypatch):
     """Five keyframes go through the pool; the workers send back their merge records, so
     that a new epsilon (the redo panel) rebuilds each drawing from its record (in the
