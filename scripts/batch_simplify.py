@@ -13,7 +13,9 @@ S.json, --fill-regions (the closed regions as fills too, on a layer under the li
 sent first, so that all files are in flight at once, then each file is opened again and
 written as its results come; the workers need the project's Python package, not Blender),
 --resume (skip the inputs whose output file exists; Blender saves whole files).
-The result of each layer goes to a new layer above it, as the operator does.
+The result of each layer goes to a new layer above it, as the operator does. With more
+than one job, one pool of worker processes, started before the first file is read, serves
+every file.
 
 Every file is reported: one that cannot be done (missing, not a readable .blend, empty,
 without Grease Pencil, or failing while simplified) is named with its reason, and the rest
