@@ -225,8 +225,9 @@ LOOK = ("opacity", "blend_mode", "tint_color", "tint_factor", "use_lights", "rad
 #: a drawing whose points lie farther than this share of its size from its plane is not
 #: flat: it is still flattened (the core works in 2D), and the report says by how much
 FLAT = 0.02
-#: from this many drawings on, the core runs them in a pool of processes (a pool started
-#: for them costs about 0.4 s); in one already started (a batch's), from two on
+#: from this many drawings on, the core runs them in a pool of processes it starts (about
+#: 0.4 s); a pool already started (a batch's) takes any drawings, simplify_all running a
+#: lone one here
 POOL_FROM = 4
 #: runs kept for replay: changing epsilon in the redo panel re-runs the operator
 REPLAY = ReplayCache()
@@ -416,7 +417,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     Drawings are read here (:func:`gather_drawings`), simplified by the core (in ``jobs``
     processes, those of ``pool`` when given, a :func:`core.parallel.local_pool` kept by
     the caller across objects and files; by default a pool of all cores from
-    :data:`POOL_FROM` drawings on, or two in a given pool; in this
+    :data:`POOL_FROM` drawings on, any in a given pool; in this
     process through the :data:`REPLAY` cache, so that a new epsilon for the same drawing is
     a replay; or by ``engine(sketches, regions)``, e.g. a Dask cluster, when given), and
     turned into new strokes here. ``progress`` is called with the fraction of drawings done.
@@ -426,7 +427,7 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     gathered = gather_drawings(obj, options, frame_number, report, frame_range)
     prepared = gathered.prepared
     if jobs is None:
-        jobs = default_jobs() if len(prepared) >= (2 if pool is not None else POOL_FROM) else 1
+        jobs = default_jobs() if pool is not None or len(prepared) >= POOL_FROM else 1
     fills = _fills_wanted(options)
     if engine is not None:
         outputs = engine([p.sketch for p in prepared], fills)
