@@ -155,8 +155,8 @@ EPSILON_SOFT_MAX = 0.06
 class SimplifyParams:
     """What controls :func:`core.simplify`. Distances are fractions of the diagonal D of
     the drawing: the strokes' bounding box, unless some ink lies far from the drawing (a
-    stray mark, another panel), which is then left out of D so that the drawing is
-    simplified as if alone (:func:`core.io.cleaning.drawing_box`).
+    stray mark, another panel, the other drawings of a page), which is then left out of D
+    so that the drawing is simplified as if alone (:func:`core.io.cleaning.drawing_box`).
 
     epsilon       merge while the cheapest shape change (Fourier descriptor distance) is
                   below this: the one slider (paper: 0.01-0.03, default 0.015); 0 merges

@@ -1,5 +1,6 @@
 """Quality of the output on every real sketch, two at a time: the measures of the clean-lines
-issue, per source, with the five worst sketches of each, and far-ink invariance.
+issue, per source, with the five worst sketches of each, far-ink invariance, and a page of
+copies of a sketch against the sketch alone.
 
     python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
                               [--data DIR] [--lines STAGE] [--skip PASS,...]
@@ -28,7 +29,9 @@ kept, strokes per stroke in and tight recall, each as rough input | before (the 
 ``--before-root``) | after (``--root``), into DIR.
 
 Far-ink invariance: a few sketches simplified alone and with one short stroke ten diagonals
-away; the share of the drawing's output that moved more than 0.5% of the diagonal.
+away; the share of the drawing's output that moved more than 0.5% of the diagonal. A page:
+the same sketches tiled 3 x 3 a fifth of their size apart, each copy against the sketch
+alone, with the run's options.
 """
 
 from __future__ import annotations
@@ -112,6 +115,44 @@ def far_ink(args: tuple[str, str]) -> tuple[str, float]:
     both = simplify(Sketch(list(sketch.strokes) + [Stroke(far)]), SimplifyParams()).strokes
     near = [s.points for s in both if s.points.min(axis=0)[0] < pts.max(axis=0)[0] + diag]
     return path, changed([s.points for s in alone], near, 0.005 * diag, 0.0025 * diag)
+
+
+#: copies of a sketch on one page, in rows and columns, a fifth of its size apart
+PAGE_COPIES = 3
+
+
+def page(args: tuple[str, str, dict]) -> tuple[str, dict]:
+    """A page of :data:`PAGE_COPIES` x PAGE_COPIES copies of a sketch, each copy's output
+    against the sketch's alone (the clean-lines issue: a page of many drawings gives each
+    the lines it gets alone): the share moved more than 0.5% of the diagonal (median and
+    worst over the copies) and the copy's ink within 1% of it (worst)."""
+    root, path, options = args
+    _setup(root)
+    from bench_simplify import diagonal
+    from metrics import changed, coverage
+
+    from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
+
+    sketch = read_sketch(path)
+    diag = diagonal(sketch)
+    ink = [s.points for s in sketch.strokes]
+    lo, hi = np.concatenate(ink).min(axis=0), np.concatenate(ink).max(axis=0)
+    step = (hi - lo) * 1.2
+    n = PAGE_COPIES
+    alone = [s.points for s in simplify(sketch, SimplifyParams(**options)).strokes]
+    sheet = simplify(Sketch([Stroke(p + step * [i, j]) for i in range(n) for j in range(n)
+                             for p in ink]), SimplifyParams(**options)).strokes
+    moved, kept = [], []
+    for i in range(n):
+        for j in range(n):
+            offset = step * [i, j]
+            mine = [s.points - offset for s in sheet
+                    if np.all(np.abs(s.points.mean(axis=0) - offset - (lo + hi) / 2)
+                              <= 0.6 * step)]
+            moved.append(changed(alone, mine, 0.005 * diag, 0.0025 * diag))
+            kept.append(coverage(ink, mine, 0.01 * diag))
+    return path, {"moved": float(np.median(moved)), "moved_worst": float(max(moved)),
+                  "ink_kept_1pct": float(min(kept))}
 
 
 def output_of(args: tuple[str, str, dict]) -> list[np.ndarray]:
@@ -216,6 +257,11 @@ def summary(rows: dict[str, dict]) -> str:
     if "far_ink" in rows.get("_far", {}):
         lines.append("far ink moved: " + ", ".join(f"{short_name(k)} {x:.3f}"
                                                    for k, x in rows["_far"]["far_ink"].items()))
+    if "page" in rows.get("_far", {}):
+        lines.append(f"a page of {PAGE_COPIES} x {PAGE_COPIES} copies, each against the sketch "
+                     "alone (moved median/worst, ink within 1% worst): " + ", ".join(
+                         f"{short_name(k)} {x['moved']:.3f}/{x['moved_worst']:.3f}, "
+                         f"{x['ink_kept_1pct']:.3f}" for k, x in rows["_far"]["page"].items()))
     return "\n".join(lines)
 
 
@@ -265,8 +311,10 @@ def main(argv: list[str] | None = None) -> int:
                                          for f in files]))
         far = [str(data / p) for p in FAR_INK if (data / p).exists() and args.only in p]
         far_rows = dict(pool.map(far_ink, [(root, f) for f in far]))
+        page_rows = dict(pool.map(page, [(root, f, options) for f in far]))
     out = {str(Path(k).relative_to(data)): v for k, v in rows.items()}
-    out["_far"] = {"far_ink": {str(Path(k).relative_to(data)): v for k, v in far_rows.items()}}
+    out["_far"] = {"far_ink": {str(Path(k).relative_to(data)): v for k, v in far_rows.items()},
+                   "page": {str(Path(k).relative_to(data)): v for k, v in page_rows.items()}}
     out["_data"] = str(data)
     out["_options"] = options  # what --pictures simplifies with
     if args.out:
