@@ -664,9 +664,9 @@ def test_alpha_is_a_fraction_of_the_drawing_and_auto_follows_the_ink():
 def test_on_a_wide_canvas_of_small_parts_the_width_is_a_parts_not_the_canvas():
     """Synthetic sketches of 1,000 and 4,000 strokes (bundles of 3 strokes 80 units long
     scattered on a canvas growing with their number): ink apart by more than a stroke's
-    length is a drawing of its own, and the frame is the largest part's, so the auto width
-    stays under half a stroke's length, where 1.2% of the canvas's diagonal would be 54
-    and 107 units."""
+    length is a drawing of its own, and the frame is the part holding the most ink, so the
+    auto width stays under half a stroke's length, where 1.2% of the canvas's diagonal
+    would be 54 and 107 units."""
     from bench_simplify import synthetic
 
     from core import normalised_strokes
@@ -685,8 +685,8 @@ def test_on_a_wide_canvas_of_small_parts_the_width_is_a_parts_not_the_canvas():
 @pytest.mark.parametrize("lines", ["complex", "pen"])
 def test_a_page_of_copies_of_a_drawing_gives_each_copy_the_lines_it_gets_alone(lines):
     """Four copies of the house on one page, apart by more than a stroke is long: the
-    width is each drawing's own (the page's diagonal would make it twice as wide), and
-    each copy comes out as the house alone."""
+    width is each drawing's own (the page's diagonal made it 2.6 times as wide), and each
+    copy comes out as the house alone."""
     sketch = read_sketch(SAMPLES / "house.scap")
     pts = np.concatenate([s.points for s in sketch.strokes])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
