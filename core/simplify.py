@@ -256,7 +256,7 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None,
     t0 = time.perf_counter()
     cleaned, report = clean_sketch(sketch)
     unit, norm = normalised_strokes(cleaned)
-    drawing = drawing_strokes(unit)
+    drawing = drawing_strokes(unit, norm.box)
     *wider, params = params.widths(drawing)  # "auto" alpha follows the ink
     t1 = time.perf_counter()
     if params.max_curves is not None:

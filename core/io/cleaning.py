@@ -91,6 +91,8 @@ class Normalisation:
 
     origin: tuple[float, float]
     scale: float
+    #: the drawing's box in this frame, (0, 0) to its far corner: ink outside lies far
+    box: tuple[float, float, float, float]
 
     @classmethod
     def of(cls, sketch: Sketch) -> Normalisation:
@@ -107,7 +109,7 @@ class Normalisation:
             raise SketchError(f"the drawing's extent {drawing:.3g} is below {MIN_EXTENT:.0e} "
                               "beside ink far away, where distances cannot be measured")
         _check_resolvable(sketch, drawing)
-        return cls((x0, y0), drawing)
+        return cls((x0, y0), drawing, (0.0, 0.0, (x1 - x0) / drawing, (y1 - y0) / drawing))
 
     def to_unit(self, points: np.ndarray) -> np.ndarray:
         return (points - np.asarray(self.origin)) / self.scale
@@ -266,17 +268,19 @@ def drawing_box(strokes: list[np.ndarray]) -> np.ndarray:
     return region
 
 
-def drawing_strokes(unit_strokes: list[np.ndarray]) -> list[np.ndarray]:
-    """The strokes of the drawing (:func:`drawing_box`) in the unit frame: ink far away
-    left out, so that what is measured of the drawing's ink (its spacing, its strokes'
-    lengths) is the drawing's alone.
+def drawing_strokes(unit_strokes: list[np.ndarray],
+                    box: tuple[float, float, float, float] | None = None) -> list[np.ndarray]:
+    """The strokes of the drawing (:func:`drawing_box`, or ``box``: the frame's own,
+    :attr:`Normalisation.box`, found once) in the unit frame: ink far away left out, so
+    that what is measured of the drawing's ink (its spacing, its strokes' lengths) is the
+    drawing's alone.
 
     >>> t = np.linspace(0, 1, 50)[:, None]
     >>> cross = [np.hstack([t, t]), np.hstack([t, 1 - t])]
     >>> len(drawing_strokes(cross + [np.array([[30., 30], [30.1, 30]])]))
     2
     """
-    x0, y0, x1, y1 = drawing_box(unit_strokes).tolist()
+    x0, y0, x1, y1 = drawing_box(unit_strokes).tolist() if box is None else box
     tol = 1e-9 * max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
     return [u for u in unit_strokes
             if u[:, 0].min() >= x0 - tol and u[:, 0].max() <= x1 + tol
