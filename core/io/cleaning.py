@@ -163,9 +163,9 @@ REACH = 0.25
 #: parts of the ink separated by a gap wider than this many times the median stroke's
 #: length are separate drawings (drawing_parts): the hand lifted and moved on, no stroke
 #: drawn across the gap. Scale-free, from the pen, not the page. At 1, three of the 101
-#: dev sketches have a second part (student7 vacuum_cleaner's detached knob, 1% of its
-#: ink; a scrap of Bunny02; a part of Bunny08 with 7%), the letters of the handwriting
-#: do not (12345_label's digits part at 0.5); at 2, none has
+#: dev sketches have a second part (student7 vacuum_cleaner's line drawn apart above it,
+#: 1% of its ink; a scrap of Bunny02; a part of Bunny08 with 7%), the letters of the
+#: handwriting do not (12345_label's digits part at 0.5); at 2, none has
 APART = 1.0
 
 
