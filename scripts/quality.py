@@ -136,7 +136,8 @@ def page(args: tuple[str, str, dict]) -> tuple[str, dict]:
     sketch = read_sketch(path)
     diag = diagonal(sketch)
     ink = [s.points for s in sketch.strokes]
-    lo, hi = np.concatenate(ink).min(axis=0), np.concatenate(ink).max(axis=0)
+    points = np.concatenate(ink)
+    lo, hi = points.min(axis=0), points.max(axis=0)
     step = (hi - lo) * 1.2
     n = PAGE_COPIES
     alone = [s.points for s in simplify(sketch, SimplifyParams(**options)).strokes]
