@@ -2,12 +2,14 @@
 meant to keep behaviour (a refactoring, a speed-up) keeps it to the bit.
 
     python scripts/output_hashes.py OUT.json [--root TREE] [--data DIR] [--jobs N]
+                                    [--lines complex|pen]
     python scripts/output_hashes.py --compare A.json B.json
 
 For every rough sketch of ``../shared/data`` and every file of ``samples/``: one hash of
 the output strokes (points, Bezier control points, width, pressure, style, closed, source
 ids) and of the merge history (kind, cost, primitives) at the default epsilon, and one of
-the strokes replayed with ``result.at`` at 0.8 and 0.5 of it. ``--root`` imports ``core``
+the strokes replayed with ``result.at`` at 0.8 and 0.5 of it; ``--lines`` picks the
+output stage (the default's unless given). ``--root`` imports ``core``
 from another checkout (a ``git worktree`` of the commit before), so that both trees are
 hashed by this same script and can be run side by side. Only the public API is used.
 """
@@ -49,13 +51,14 @@ def _history_digest(history) -> str:
     return h.hexdigest()[:16]
 
 
-def hash_sketch(args: tuple[str, str]) -> tuple[str, dict]:
-    """The hashes of one sketch (run in a worker that imports ``core`` from ``root``)."""
-    root, path = args
+def hash_sketch(args: tuple[str, str, str | None]) -> tuple[str, dict]:
+    """The hashes of one sketch (run in a worker that imports ``core`` from ``root``), with
+    the output stage ``lines`` (None: the default's)."""
+    root, path, lines = args
     sys.path.insert(0, root)
     from core import SimplifyParams, read_sketch, simplify
 
-    params = SimplifyParams()
+    params = SimplifyParams() if lines is None else SimplifyParams(lines=lines)
     try:
         result = simplify(read_sketch(path), params)
     except Exception as exc:  # noqa: BLE001 - a refusal is an output too
@@ -87,6 +90,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--data", default=str(HERE.parent.parent / "shared" / "data"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--compare", nargs=2, metavar=("A", "B"))
+    ap.add_argument("--lines", choices=("complex", "pen"), default=None,
+                    help="the output stage (default: the default's)")
     args = ap.parse_args(argv)
     if args.compare:
         a, b = (json.loads(Path(p).read_text()) for p in args.compare)
@@ -99,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     rel = {str(p): (str(p.relative_to(args.data)) if str(p).startswith(args.data)
                     else p.name) for p in paths}
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-        rows = dict(pool.map(hash_sketch, [(str(Path(args.root).resolve()), str(p))
+        rows = dict(pool.map(hash_sketch, [(str(Path(args.root).resolve()), str(p), args.lines)
                                            for p in paths]))
     out = {rel[p]: row for p, row in rows.items()}
     Path(args.out).write_text(json.dumps(out, indent=1, sort_keys=True))

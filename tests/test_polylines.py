@@ -9,6 +9,7 @@ import pytest
 import shapely
 
 from core import Stroke
+from core.arrays import geometry
 from core.arrays.geometry import Segments
 from core.arrays.polylines import (
     Polylines,
@@ -118,6 +119,31 @@ def test_where_points_come_nearest_along_segments_is_geos_answer_to_the_bit():
     points = rng.uniform(-0.2, 1.2, (20_000, 2))  # beyond the ends too
     assert (segs.along(seg, points)
             == shapely.line_locate_point(segs.lines[seg], shapely.points(points))).all()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_small_nearest_query_finds_the_segment_a_tree_finds(seed, monkeypatch):
+    """Measured pair by pair (few points against few segments), the nearest segment is the
+    one GEOS's tree query finds, ties to the lowest numbered: on a grid, where many points
+    lie equally near two segments, with repeated points (segments of no length), and on
+    wandering lines at many scales."""
+    rng = np.random.default_rng(seed)
+    for k in range(60):
+        if k % 2:
+            lines = [rng.integers(0, 6, (rng.integers(2, 12), 2)).astype(float) for _ in range(3)]
+            points = rng.integers(-1, 7, (40, 2)).astype(float)
+        else:
+            lines = _polylines(seed * 100 + k)[:3]
+            flat = np.concatenate(lines)
+            points = flat[rng.integers(0, len(flat), 30)] + rng.normal(0, 1e-3, (30, 2))
+        segs = Segments.of(lines)
+        assert len(points) * len(segs.start) <= geometry.BRUTE_PAIRS
+        small = segs.nearest(points)
+        monkeypatch.setattr(geometry, "BRUTE_PAIRS", 0)
+        tree = segs.nearest(points)
+        monkeypatch.undo()
+        assert small[0].tolist() == tree[0].tolist()
+        assert small[1].tobytes() == tree[1].tobytes()
 
 
 def test_ink_passing_a_segment_too_short_for_geos_is_found_at_the_stroke_start():

@@ -4,7 +4,8 @@ which samples of polylines come within a reach of other lines."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -148,12 +149,48 @@ def directions_at(lines, points, step: float) -> np.ndarray:
     return unit_rows(ahead - behind)
 
 
+#: a nearest query of at most this many (point, segment) pairs is answered by measuring
+#: every pair in numpy: most of the pen stage's projections are of a few dozen points on a
+#: line of a few dozen segments, where building a tree and walking it costs about three
+#: times as much (for larger queries the two cost about the same)
+BRUTE_PAIRS = 16384
+
+
+def _nearest_measured(origin: np.ndarray, end: np.ndarray, points: np.ndarray
+                      ) -> np.ndarray:
+    """The nearest of the segments ``origin + u * vector`` to each of ``points`` (of equally
+    near ones the lowest numbered), every pair measured as GEOS measures a point's distance
+    to a segment (``Distance::pointToSegment``: to an end where the foot falls beyond it),
+    so that the same segment is found as a tree's nearest query finds.
+
+    >>> _nearest_measured(np.array([[0.0, 0.0], [1.0, 0.0]]), np.array([[1.0, 0.0], [1.0, 1.0]]),
+    ...                   np.array([[0.5, -1.0], [2.0, 0.5], [1.5, -0.5]])).tolist()
+    [0, 1, 0]
+    """
+    ax, ay = origin[None, :, 0], origin[None, :, 1]
+    bx, by = end[None, :, 0], end[None, :, 1]
+    vx, vy = bx - ax, by - ay
+    px, py = points[:, 0, None], points[:, 1, None]
+    squared = vx * vx + vy * vy
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = ((px - ax) * vx + (py - ay) * vy) / squared
+        s = ((ay - py) * vx - (ax - px) * vy) / squared
+    dxa, dya = px - ax, py - ay
+    dxb, dyb = px - bx, py - by
+    to_a = np.sqrt(dxa * dxa + dya * dya)
+    dist = np.where((squared == 0) | (r <= 0), to_a,
+                    np.where(r >= 1, np.sqrt(dxb * dxb + dyb * dyb),
+                             np.abs(s) * np.sqrt(squared)))
+    return np.argmin(dist, axis=1)
+
+
 @dataclass(frozen=True)
 class Segments:
     """Polylines as their single segments ``origin + u * vector`` (u in [0, 1]), each
     numbered by its polyline (``polyline``) and its first point in their concatenation
-    (``start``), in an STRtree: nearest queries against single segments are far quicker
-    than against whole polylines of hundreds of points.
+    (``start``), and in an STRtree when one is asked for (:attr:`tree`): nearest queries
+    against single segments are far quicker than against whole polylines of hundreds of
+    points.
 
     >>> segs = Segments.of([np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]),
     ...                     np.array([[0.0, 0.3], [2.0, 0.3]])])
@@ -163,21 +200,31 @@ class Segments:
 
     origin: np.ndarray  #: (m, 2)
     vector: np.ndarray  #: (m, 2)
+    end: np.ndarray  #: (m, 2) the points the segments end at (``origin + vector`` but for
+    #: rounding)
     start: np.ndarray  #: (m,) index of the first point in the polylines' concatenation
     polyline: np.ndarray  #: (m,) which polyline
-    lines: np.ndarray = field(repr=False)  #: (m,) shapely LineStrings
-    tree: shapely.STRtree = field(repr=False)
+
+    @cached_property
+    def lines(self) -> np.ndarray:
+        """(m,) the segments as shapely LineStrings, made when first asked for."""
+        return shapely.linestrings(np.stack([self.origin, self.end], axis=1))
+
+    @cached_property
+    def tree(self) -> shapely.STRtree:
+        """The segments in an STRtree, built when first asked for (a small nearest query
+        needs none)."""
+        return shapely.STRtree(self.lines)
 
     @classmethod
     def of(cls, polylines: list[np.ndarray]) -> Segments:
         sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
         flat = np.concatenate(polylines)
-        last = np.cumsum(sizes) - 1
-        start = np.setdiff1d(np.arange(len(flat) - 1), last)
-        lines = shapely.linestrings(np.stack([flat[start], flat[start + 1]], axis=1))
-        return cls(flat[start], flat[start + 1] - flat[start], start,
-                   np.repeat(np.arange(len(sizes)), np.maximum(sizes - 1, 0)), lines,
-                   shapely.STRtree(lines))
+        begins = np.ones(len(flat), bool)  # each point but a polyline's last begins one
+        begins[np.cumsum(sizes)[sizes > 0] - 1] = False
+        start = np.flatnonzero(begins)
+        return cls(flat[start], flat[start + 1] - flat[start], flat[start + 1], start,
+                   np.repeat(np.arange(len(sizes)), np.maximum(sizes - 1, 0)))
 
     def along(self, segment: np.ndarray, points: np.ndarray) -> np.ndarray:
         """How far along each of the given segments its point of ``points`` comes nearest
@@ -199,14 +246,18 @@ class Segments:
     def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest segment to each of ``points`` (of equally near ones, the lowest
         numbered: the first along its polyline) and how far along it that point comes
-        nearest (:meth:`along`); one tree query, so that a polyline of many points costs
-        its log, where GEOS walks every segment of a LineString for each point.
+        nearest (:meth:`along`). A large query is one tree query, so that a polyline of
+        many points costs its log, where GEOS walks every segment of a LineString for each
+        point; a small one (``BRUTE_PAIRS``) measures every pair, as GEOS would.
 
         >>> segs = Segments.of([np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])])
         >>> seg, u = segs.nearest(np.array([[0.5, -1.0], [2.0, 0.5]]))
         >>> seg.tolist(), u.tolist()
         ([0, 1], [0.5, 0.5])
         """
+        if len(points) * len(self.origin) <= BRUTE_PAIRS:
+            out = _nearest_measured(self.origin, self.end, points)
+            return out, self.along(out, points)
         i, seg = self.tree.query_nearest(shapely.points(points), all_matches=True)
         order = np.lexsort((seg, i))
         i, seg = i[order], seg[order]
@@ -299,8 +350,9 @@ class Projection(NamedTuple):
 
 def project_on(line: np.ndarray, points: np.ndarray) -> Projection:
     """``points`` (n, 2) projected onto the polyline ``line`` (k >= 2, 2): what
-    ``shapely.line_locate_point`` and ``shapely.distance`` give, through a tree of its
-    segments (:meth:`Segments.nearest`), in time growing as n log k rather than n k.
+    ``shapely.line_locate_point`` and ``shapely.distance`` give, through its segments
+    (:meth:`Segments.nearest`: a tree of them for a large query, in time growing as n log k
+    rather than n k).
 
     >>> p = project_on(np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]),
     ...                np.array([[1.0, 1.0], [3.0, 1.5], [-1.0, 0.0]]))

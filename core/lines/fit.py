@@ -50,6 +50,10 @@ def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
             ) -> tuple[np.ndarray, bool] | None:
     """The spine with ``piece`` attached (see the module), and whether it closed; None
     where the piece does not run along it."""
+    gap = np.maximum(0.0, np.maximum(piece.min(axis=0) - spine.max(axis=0),
+                                     spine.min(axis=0) - piece.max(axis=0)))
+    if np.hypot(*gap) > reach:  # their boxes lie farther apart than reach
+        return None
     along = project_on(spine, piece)
     t, length, near = along.at, along.length, along.distance <= reach
     runs = _runs(near)
