@@ -158,10 +158,11 @@ BRUTE_PAIRS = 16384
 
 def _nearest_measured(origin: np.ndarray, end: np.ndarray, points: np.ndarray
                       ) -> np.ndarray:
-    """The nearest of the segments ``origin + u * vector`` to each of ``points`` (of equally
-    near ones the lowest numbered), every pair measured as GEOS measures a point's distance
-    to a segment (``Distance::pointToSegment``: to an end where the foot falls beyond it),
-    so that the same segment is found as a tree's nearest query finds.
+    """The nearest of the segments from ``origin`` to ``end`` (each (m, 2)) to each of
+    ``points`` (of equally near ones the lowest numbered), every pair measured as GEOS
+    measures a point's distance to a segment (``Distance::pointToSegment``: to an end
+    where the foot falls beyond it), so that the same segment is found as a tree's nearest
+    query finds.
 
     >>> _nearest_measured(np.array([[0.0, 0.0], [1.0, 0.0]]), np.array([[1.0, 0.0], [1.0, 1.0]]),
     ...                   np.array([[0.5, -1.0], [2.0, 0.5], [1.5, -0.5]])).tolist()
