@@ -227,6 +227,22 @@ def test_points_projected_through_the_segment_tree_land_where_geos_puts_them():
     assert np.allclose(np.hypot(*(at - points).T), got.distance, atol=1e-9)
 
 
+@pytest.mark.parametrize("sample", ["house", "fish"])
+def test_the_pen_stage_is_the_same_to_the_bit_whether_small_queries_are_measured_or_treed(
+        sample, monkeypatch):
+    """Small nearest queries are measured pair by pair (``geometry.BRUTE_PAIRS``), for
+    speed only: with every query through the tree, each stroke comes out the same."""
+    from core.arrays import geometry
+
+    sketch = read_sketch(SAMPLES / f"{sample}.scap")
+    measured = simplify(sketch, SimplifyParams(lines="pen")).strokes
+    monkeypatch.setattr(geometry, "BRUTE_PAIRS", 0)
+    treed = simplify(sketch, SimplifyParams(lines="pen")).strokes
+    assert len(measured) == len(treed)
+    for x, y in zip(measured, treed):
+        assert x.bezier.tobytes() == y.bezier.tobytes()
+
+
 def test_a_stroke_hundreds_of_diagonals_long_far_from_the_drawing_takes_seconds():
     # the pen stage's projections walked a long line for every point (GEOS on a whole
     # LineString): this took about 30 s at 20,000 units and minutes at 60,000. The drawing
