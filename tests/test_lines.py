@@ -13,6 +13,7 @@ from metrics import whole_lines
 
 from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
 from core.arrays.geometry import project_on
+from core.arrays.polylines import resample_polyline
 from core.lines import PASSES
 from core.sketch import SketchError
 
@@ -241,6 +242,29 @@ def test_the_pen_stage_is_the_same_to_the_bit_whether_small_queries_are_measured
     assert len(measured) == len(treed)
     for x, y in zip(measured, treed):
         assert x.bezier.tobytes() == y.bezier.tobytes()
+
+
+def test_a_stroke_skipped_as_unable_to_come_back_is_cut_as_the_query_would_cut_it(
+        monkeypatch):
+    """A stroke whose every step heads along its chord is not asked about (it cannot come
+    back over its own ink): arcs turning from a quarter to two and a half turns, shaking a
+    little, the wider ones coming back round, are cut exactly as asking every one of them
+    cuts them."""
+    from core.lines import pieces
+
+    rng = np.random.default_rng(5)
+    strokes = []
+    for turn in np.linspace(0.5 * np.pi, 5 * np.pi, 60):
+        t = np.linspace(0, turn, 200)
+        arc = 20 * np.stack([np.cos(t), np.sin(t)], axis=1) * (1 + 0.005 * t[:, None])
+        strokes.append(resample_polyline(arc + rng.normal(0, 0.05, arc.shape), 0.5))
+    cut = [pieces.cut_where_it_returns(p, 2.0, 0.8) for p in strokes]
+    skipped = sum(pieces._cannot_return(p) for p in strokes)
+    monkeypatch.setattr(pieces, "_cannot_return", lambda points: False)
+    asked = [pieces.cut_where_it_returns(p, 2.0, 0.8) for p in strokes]
+    assert 3 <= skipped < 50 and sum(len(c) > 1 for c in asked) > 10
+    assert all(len(a) == len(b) and all(x.tobytes() == y.tobytes() for x, y in zip(a, b))
+               for a, b in zip(cut, asked))
 
 
 def test_a_stroke_hundreds_of_diagonals_long_far_from_the_drawing_takes_seconds():

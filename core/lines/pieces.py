@@ -37,7 +37,7 @@ def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: floa
 def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float
                          ) -> list[np.ndarray]:
     """An evenly spaced polyline cut where it comes back within ``reach`` of its own
-    earlier ink (farther back along it than four times that), running along it (|cos| at
+    earlier ink (farther back along it than ``BACK`` times that), running along it (|cos| at
     least ``along_cos``, either way): a ring drawn round several times, a line drawn back
     over itself. Each turn is a piece, which pass 3 groups with the others.
 
@@ -63,13 +63,29 @@ def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float
 
 #: points asked about at once (a stroke shaking over itself has many ink pairs near each)
 CHUNK = 1024
+#: ink comes back when it lies within reach of the stroke's ink this many reaches back
+BACK = 4
+
+
+def _cannot_return(points: np.ndarray) -> bool:
+    """Whether every step of the polyline heads along its chord by more than 1 / ``BACK``
+    of its length: then ink ``BACK`` reaches back along it lies more than a reach away
+    along the chord alone, and nothing comes back (most strokes; no query needed)."""
+    step = np.diff(points, axis=0)
+    length = np.hypot(step[:, 0], step[:, 1])
+    chord = points[-1] - points[0]
+    span = float(np.hypot(*chord))
+    if span <= 0:
+        return False
+    moving = length > 0
+    return bool((step[moving] @ (chord / span) > length[moving] / BACK).all())
 
 
 def _first_return(points: np.ndarray, reach: float, along_cos: float) -> int | None:
     """The first point that comes back along the polyline's earlier ink (see
     :func:`cut_where_it_returns`), asked about a chunk at a time, or None."""
     s = arc_lengths(points)
-    if s[-1] <= 4 * reach:
+    if s[-1] <= BACK * reach or _cannot_return(points):
         return None
     segs = Segments.of([points])
     tan = tangents(points)
@@ -77,7 +93,7 @@ def _first_return(points: np.ndarray, reach: float, along_cos: float) -> int | N
         rows = np.arange(start, min(start + CHUNK, len(points)))
         i, seg = segs.running_along(points[rows], tan[rows], reach, along_cos)
         i = rows[i]
-        back = s[i] - s[seg + 1] > 4 * reach
+        back = s[i] - s[seg + 1] > BACK * reach
         if back.any():
             return int(i[back].min())
     return None
