@@ -84,6 +84,8 @@ class Tuning:
                     member_reach of the group's fitted line (else it is split off): the
                     trade-off between whole lines and doubled ones (docs/decisions.md)
     member_reach    see member_share; 1.5: a loose pass lies up to d_eps off the middle
+                    (a stretch of ink farther than this from every line is made a line
+                    of its own: core.lines.orphans)
     along_share     pass 5 joins two fitted lines when this share of the shorter lies
                     within d_eps of the longer, running along it (doubled passes the
                     merges left apart), where no clear band lies between their inks

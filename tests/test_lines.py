@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import shapely
 from helpers import DATA, SAMPLES, require_data
-from metrics import whole_lines
+from metrics import coverage, whole_lines
 
 from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
 from core.arrays.geometry import project_on
@@ -116,6 +116,21 @@ def test_two_loose_passes_that_cross_along_a_line_stay_one_line():
     frame = passes([50, 50], [450, 50], seed=1) + passes([50, 450], [450, 450], seed=2)
     out = pen(frame + [np.stack([x, 200 + swing], axis=1), np.stack([x, 200 - swing], axis=1)])
     assert len([s for s in out if 100 < np.median(s.points[:, 1]) < 400]) == 1
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_pass_that_parts_from_its_line_keeps_its_ink_as_a_line_of_its_own(seed):
+    """Three passes of a line, one of them bulging 4% of the diagonal off the others over
+    its middle third: the line follows one side there, and the other side's ink, stood
+    for by no line without the orphans pass, comes out as one line of its own."""
+    ink = passes([100, 250], [400, 250], seed=seed)
+    x = ink[0][:, 0]
+    ink[0] = ink[0] + np.c_[0 * x, 0.04 * DIAGONAL * np.clip(1.5 - np.abs(x - 250) / 50, 0,
+                                                             1)]
+    kept = [coverage(ink, [s.points for s in pen(ink, skip=skip)], 0.02 * DIAGONAL)
+            for skip in ((), ("orphans",))]
+    assert kept[0] == 1.0 and kept[1] < 0.9
+    assert len(pen(ink)) == 2
 
 
 def test_a_t_gives_a_stem_ending_exactly_on_its_bar():

@@ -23,10 +23,14 @@ The passes, in order (each a module with one job; :data:`PASSES` names them):
 6. ``absorb``: a short line lying wholly near a longer one (a hook, a crumb) is left out.
 7. ``corners``: lines that consecutive pieces of one input stroke end at a corner join
    there again, the corner kept (the pen drew it in one motion).
-8. ``junctions``: an end that stops near another line meets it exactly; an overshoot past
+8. ``orphans``: a stretch of a loose pass that parted from its line farther than a loose
+   pass lies off the middle (the line's median followed the other passes there) is stood
+   for by no line: it becomes a line of its own, drawn on from a free end where it
+   carries one on.
+9. ``junctions``: an end that stops near another line meets it exactly; an overshoot past
    a line is trimmed; lines that cross go straight through.
-9. ``bezier``: each line smoothed between its corners and fitted with piecewise cubic
-   Beziers.
+10. ``bezier``: each line smoothed between its corners and fitted with piecewise cubic
+    Beziers.
 
 Invariants: every pass is a function of the simplified complex, the input strokes and
 the params alone, so a replay at a smaller epsilon gives exactly a fresh run's lines; a
@@ -46,7 +50,7 @@ import numpy as np
 from ..complex.complex_state import ComplexState
 from ..params import SimplifyParams
 from ..sketch import SketchError
-from . import absorb, bezier, corners, fit, follow, group, join, junctions, pieces
+from . import absorb, bezier, corners, fit, follow, group, join, junctions, orphans, pieces
 from .work import Work
 
 __all__ = ["PASSES", "PenRun", "lines_from_pen"]
@@ -60,6 +64,7 @@ PASSES: tuple[tuple[str, Callable[[Work], Work]], ...] = (
     ("join", join.run),
     ("absorb", absorb.run),
     ("corners", corners.run),
+    ("orphans", orphans.run),
     ("junctions", junctions.run),
     ("bezier", bezier.run),
 )

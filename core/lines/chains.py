@@ -1,4 +1,5 @@
-"""Lines joined end to end (:mod:`core.lines` passes 7 and 8 share it): each end joined to
+"""Lines joined end to end (:mod:`core.lines` passes 7 and 8 share it: corners, and a
+stretch of ink drawn on from a free end): each end joined to
 at most one other; a chain that comes back to its start is closed."""
 
 from __future__ import annotations

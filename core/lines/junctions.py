@@ -1,4 +1,4 @@
-"""Pass 8 of :mod:`core.lines`: junctions taken from the fitted lines
+"""Pass 9 of :mod:`core.lines`: junctions taken from the fitted lines
 (:func:`core.output.junctions.meet_at_junctions`, shared with the complex stage): an open
 line's end that stops within ``tuning.snap`` d_eps of another line, meeting it at an angle
 (more than the merge angle), meets it exactly, and an end that crosses it and runs on by
