@@ -37,13 +37,18 @@ from ..arrays.polylines import arc_lengths, gaussian_kernel, resample_polyline, 
 from .work import Line, Work
 
 __all__ = ["absorb_lines", "along_pairs", "band_split", "centreline", "clear_band",
-           "fit_group", "regroup", "run"]
+           "fit_group", "regroup", "run", "true_runs"]
 
 
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """(first, last) index of each run of True."""
+def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of each run of True.
+
+    >>> true_runs(np.array([True, False, True, True]))
+    [(0, 0), (2, 3)]
+    """
     edges = np.diff(np.r_[0, mask.astype(np.int8), 0])
-    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+    firsts, lasts = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    return list(zip(firsts.tolist(), lasts.tolist()))
 
 
 def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
@@ -56,7 +61,7 @@ def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
         return None
     along = project_on(spine, piece)
     t, length, near = along.at, along.length, along.distance <= reach
-    runs = _runs(near)
+    runs = true_runs(near)
     if not runs:
         return None
     a, b = max(runs, key=lambda r: (r[1] - r[0], -r[0]))

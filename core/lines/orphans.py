@@ -22,7 +22,7 @@ from ..arrays.components import component_labels
 from ..arrays.geometry import Segments
 from ..arrays.polylines import arc_lengths
 from .chains import End, chain
-from .fit import centreline
+from .fit import centreline, true_runs
 from .work import Line, Work
 
 __all__ = ["run", "stretches_apart"]
@@ -40,9 +40,8 @@ def stretches_apart(distance: np.ndarray, s: np.ndarray, far: float, near: float
     [(1, 6)]
     """
     out: list[tuple[int, int]] = []
-    edges = np.diff(np.r_[0, (distance > far).astype(np.int8), 0])
     close = np.flatnonzero(distance <= near)
-    for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1):
+    for a, b in true_runs(distance > far):
         if s[b] - s[a] < length:
             continue
         before, after = close[close < a], close[close > b]
