@@ -77,7 +77,10 @@ def run(work: Work) -> Work:
         return work.with_(lines=lines)
     t = work.tuning
     sizes = work.piece_sizes()
-    distance = Segments.of([ln.points for ln in lines]).distance(np.concatenate(work.pieces))
+    segs = Segments.of([ln.points for ln in lines])
+    if not len(segs.origin):  # lines of one point each: nothing to measure against
+        return work.with_(lines=lines)
+    distance = segs.distance(np.concatenate(work.pieces))
     firsts = np.cumsum(sizes) - sizes
     reach = t.member_reach * work.d
     stretches, owner = [], []
