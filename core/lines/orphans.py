@@ -118,21 +118,20 @@ def _heading(points: np.ndarray, end: int, reach: float) -> np.ndarray:
 def _drawn_on(lines: list[Line], new, reach: float, along_cos: float
               ) -> list[tuple[End, End]]:
     """Ends of the ``new`` lines that carry on from a free end of another line: within
-    ``reach`` of it, heading on the way it heads (|cos| at least ``along_cos``), the
+    ``reach`` of it, heading on the way it heads (cos at least ``along_cos``), the
     nearest first, each end once."""
     found = []
+    ends = np.array([[ln.points[0], ln.points[-1]] for ln in lines])  # (lines, 2, 2)
+    free = ~np.array([ln.closed for ln in lines])
     for o in new:
         for e in (0, 1):
-            tip = lines[o].points[0 if e == 0 else -1]
-            for k, ln in enumerate(lines):
-                if k == o or ln.closed:
-                    continue
-                for f in (0, 1):
-                    gap = float(np.hypot(*(ln.points[0 if f == 0 else -1] - tip)))
-                    heads = _heading(ln.points, f, reach) @ -_heading(lines[o].points, e,
-                                                                      reach)
-                    if gap <= reach and heads >= along_cos:
-                        found.append((gap, (o, e), (k, f)))
+            gaps = np.hypot(*(ends - ends[o, e]).transpose(2, 0, 1))  # (lines, 2)
+            gaps[o] = np.inf
+            for k, f in zip(*np.nonzero((gaps <= reach) & free[:, None])):
+                heads = _heading(lines[k].points, int(f), reach) @ -_heading(
+                    lines[o].points, e, reach)
+                if heads >= along_cos:
+                    found.append((float(gaps[k, f]), (o, e), (int(k), int(f))))
     used: set[End] = set()
     joins = []
     for _, x, y in sorted(found):
