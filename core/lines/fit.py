@@ -37,7 +37,7 @@ from ..arrays.polylines import arc_lengths, gaussian_kernel, resample_polyline, 
 from .work import Line, Work
 
 __all__ = ["absorb_lines", "along_pairs", "band_split", "centreline", "clear_band",
-           "fit_group", "regroup", "run", "true_runs"]
+           "components", "fit_group", "regroup", "run", "true_runs"]
 
 
 def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -305,12 +305,12 @@ def fit_group(members: list[int], work: Work) -> list[Line]:
         return [Line(line, closed, tuple(members))]
     kept = [m for m, ok in zip(members, keep) if ok]
     out = fit_group(kept, work)
-    return out + [line for rest in _components([m for m, ok in zip(members, keep) if not ok],
+    return out + [line for rest in components([m for m, ok in zip(members, keep) if not ok],
                                                 work.pairs)
                   for line in fit_group(rest, work)]
 
 
-def _components(members: list[int], pairs: np.ndarray | None) -> list[list[int]]:
+def components(members: list[int], pairs: np.ndarray | None) -> list[list[int]]:
     """``members`` split into the connected components of the ``pairs`` among them."""
     if pairs is None or len(members) < 2:
         return [[m] for m in members]

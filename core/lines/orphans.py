@@ -18,11 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arrays.components import component_labels
 from ..arrays.geometry import Segments
 from ..arrays.polylines import arc_lengths
 from .chains import End, chain
-from .fit import centreline, true_runs
+from .fit import centreline, components, true_runs
 from .work import Line, Work
 
 __all__ = ["run", "stretches_apart"]
@@ -64,11 +63,8 @@ def _together(stretches: list[np.ndarray], reach: float) -> list[list[int]]:
             near = Segments.of([stretches[other]]).distance(stretches[short]) <= reach
             if near.mean() >= 0.5:
                 pairs.append((i, j))
-    labels = component_labels(len(stretches), np.array(pairs, dtype=np.intp).reshape(-1, 2))
-    groups: dict[int, list[int]] = {}
-    for k, label in enumerate(labels.tolist()):
-        groups.setdefault(label, []).append(k)
-    return list(groups.values())
+    return components(list(range(len(stretches))),
+                      np.array(pairs, dtype=np.intp).reshape(-1, 2))
 
 
 def run(work: Work) -> Work:
