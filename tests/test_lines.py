@@ -134,46 +134,6 @@ def test_a_pass_that_parts_from_its_line_keeps_its_ink_as_a_line_of_its_own(seed
     assert len(out) == 2
 
 
-def turning_off(seed: int, x0: float = 60.0, along: float = 100.0, radius: float = 160.0
-                ) -> list[np.ndarray]:
-    """Three rough passes drawn along y = 300 from ``x0`` for ``along``, then turning off
-    upwards round a quarter circle of ``radius``, each in one motion."""
-    rng = np.random.default_rng(seed)
-    out = []
-    for _ in range(3):
-        s = np.linspace(0, along + radius * np.pi / 2, 120)
-        turn = np.clip((s - along) / radius, 0, np.pi / 2)
-        x = np.where(s < along, x0 + s, x0 + along + radius * np.sin(turn))
-        y = np.where(s < along, 300.0, 300 - radius * (1 - np.cos(turn)))
-        out.append(np.c_[x, y] + rng.uniform(-1.5, 1.5) * np.array([0, 1])
-                   + rng.normal(0, 0.2, (len(s), 2)))
-    return out
-
-
-@pytest.mark.parametrize("seed", [0, 1])
-def test_a_line_drawn_along_an_edge_and_turning_off_it_starts_where_it_leaves_the_edge(seed):
-    """An edge drawn as three passes, and three passes drawn along its first hundred units
-    that then turn off round a corner: the edge is one line, the turn starts on it where
-    it leaves it, and along the shared stretch one line runs, not two (without the
-    parting pass, both lines draw it)."""
-    ink = passes([50, 300], [480, 300], seed=seed) + turning_off(seed + 10)
-    probe = np.c_[np.linspace(80, 150, 8), np.full(8, 300.0)]
-
-    def lines_along(out):
-        return [sum(float(shapely.distance(shapely.Point(p), shapely.LineString(s.points)))
-                    < 0.01 * DIAGONAL for s in out) for p in probe]
-
-    out, without = pen(ink), pen(ink, skip=("parting",))
-    assert len(out) == 2 and lines_along(out) == [1] * 8
-    assert lines_along(without) == [2] * 8
-    edge, turn = sorted(out, key=lambda s: np.ptp(s.points[:, 1]))
-    assert np.ptp(edge.points[:, 0]) > 0.95 * 430
-    start = turn.points[np.argmax(turn.points[:, 1])]
-    assert shapely.distance(shapely.Point(start), shapely.LineString(edge.points)) \
-        < 1e-6 * DIAGONAL
-    assert start[0] > 150  # it leaves the edge past the shared stretch
-
-
 def test_a_t_gives_a_stem_ending_exactly_on_its_bar():
     out = pen(passes([100, 200], [400, 200], seed=6) + passes([250, 204], [250, 400], seed=7))
     assert len(out) == 2

@@ -27,12 +27,9 @@ The passes, in order (each a module with one job; :data:`PASSES` names them):
    pass lies off the middle (the line's median followed the other passes there) is stood
    for by no line: it becomes a line of its own, drawn on from a free end where it
    carries one on.
-9. ``parting``: a line's end stretch that runs along another line and then parts from it
-   (a pass drawn along an edge that turns off round a corner) is that line drawn twice:
-   it is cut off where the line parts, the new end on the other line.
-10. ``junctions``: an end that stops near another line meets it exactly; an overshoot
-    past a line is trimmed; lines that cross go straight through.
-11. ``bezier``: each line smoothed between its corners and fitted with piecewise cubic
+9. ``junctions``: an end that stops near another line meets it exactly; an overshoot past
+   a line is trimmed; lines that cross go straight through.
+10. ``bezier``: each line smoothed between its corners and fitted with piecewise cubic
     Beziers.
 
 Invariants: every pass is a function of the simplified complex, the input strokes and
@@ -53,8 +50,7 @@ import numpy as np
 from ..complex.complex_state import ComplexState
 from ..params import SimplifyParams
 from ..sketch import SketchError
-from . import (absorb, bezier, corners, fit, follow, group, join, junctions, orphans,
-               parting, pieces)
+from . import absorb, bezier, corners, fit, follow, group, join, junctions, orphans, pieces
 from .work import Work
 
 __all__ = ["PASSES", "PenRun", "lines_from_pen"]
@@ -69,7 +65,6 @@ PASSES: tuple[tuple[str, Callable[[Work], Work]], ...] = (
     ("absorb", absorb.run),
     ("corners", corners.run),
     ("orphans", orphans.run),
-    ("parting", parting.run),
     ("junctions", junctions.run),
     ("bezier", bezier.run),
 )

@@ -1,7 +1,7 @@
-"""Pass 11 of :mod:`core.lines`: each line smoothed between its corners and fitted with
+"""Pass 10 of :mod:`core.lines`: each line smoothed between its corners and fitted with
 piecewise cubic Beziers (:func:`core.output.to_strokes.fit_lines`, shared with the
 complex stage), the fits kept by content for a slider's replays. Smoothing moves the
-line an end met at a junction (pass 10) a little: each such end is moved again onto that
+line an end met at a junction (pass 9) a little: each such end is moved again onto that
 line's fitted curve, its Bezier handle moved with it (the tangent kept), so that a T or an
 L meets exactly in the output (:func:`core.output.junctions.met_ends`)."""
 

@@ -1,4 +1,4 @@
-"""Pass 10 of :mod:`core.lines`: junctions taken from the fitted lines
+"""Pass 9 of :mod:`core.lines`: junctions taken from the fitted lines
 (:func:`core.output.junctions.meet_at_junctions`, shared with the complex stage): an open
 line's end that stops within ``tuning.snap`` d_eps of another line, meeting it at an angle
 (more than the merge angle), meets it exactly, and an end that crosses it and runs on by
@@ -23,9 +23,6 @@ def run(work: Work) -> Work:
         [ln.points for ln in lines], [ln.closed for ln in lines],
         work.tuning.snap * work.d, work.tuning.overshoot * work.d,
         float(np.cos(np.radians(work.params.angle))), work.h)
-    # an end met already (pass 9, where it parted from another line) keeps its line
-    meets = [tuple(m if m is not None else old for m, old in zip(met, ln.meets))
-             for ln, met in zip(lines, meets)]
-    return work.with_(lines=[ln if pts is ln.points and met == ln.meets
+    return work.with_(lines=[ln if pts is ln.points and met == (None, None)
                              else Line(pts, ln.closed, ln.members, met)
                              for ln, pts, met in zip(lines, points, meets)])

@@ -4,7 +4,7 @@ still a member where it runs along the line for most of its length, and the line
 follows the other passes there: that stretch of ink is stood for by no line. Each stretch
 of a piece at least ``tuning.crumb`` d_eps long (shorter is a hook or a crumb) lying
 farther than ``member_reach`` d_eps from every line becomes a line of its own, from where
-it leaves the lines (within ``tuning.snap`` d_eps of one, so that pass 10 meets its ends
+it leaves the lines (within ``tuning.snap`` d_eps of one, so that pass 9 meets its ends
 onto that line) to where it comes back; stretches of several passes lying together are
 one line, fitted as pass 4 fits a group; and one that carries on from a free end of a
 line (within ``snap``, heading on its way) is drawn on from it, as the pen would. Not at

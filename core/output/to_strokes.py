@@ -86,7 +86,7 @@
 9. Placement: each line moves onto the middle of the input ink it stands for, junctions
    held (:mod:`core.output.placement`). Not at epsilon 0.
 10. Junctions: an end that stops within ``tuning.snap`` d_eps of another line meets it
-    exactly (:mod:`core.output.junctions`, the pen stage's pass 10), and two free ends that
+    exactly (:mod:`core.output.junctions`, the pen stage's pass 9), and two free ends that
     both stop short of the corner they draw (each within ``tuning.corner`` d_eps) meet
     there; an overshoot is left as drawn (cut, whole lines fell by 0.006 and Chamfer rose
     0.02 px on lift3d, where extending alone raised whole lines; docs/decisions.md).
