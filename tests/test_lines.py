@@ -134,6 +134,37 @@ def test_a_pass_that_parts_from_its_line_keeps_its_ink_as_a_line_of_its_own(seed
     assert len(out) == 2
 
 
+def turning_off(seed: int, along: float = 112.0, radius: float = 200.0) -> list[np.ndarray]:
+    """Three rough passes drawn along y = 300 from x = 100 for ``along``, then turning off
+    upwards round a quarter circle of ``radius``, each in one motion."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(3):
+        s = np.linspace(0, along + radius * np.pi / 2, 90)
+        turn = np.clip((s - along) / radius, 0, np.pi / 2)
+        x = np.where(s < along, 100 + s, 100 + along + radius * np.sin(turn))
+        y = np.where(s < along, 300.0, 300 - radius * (1 - np.cos(turn)))
+        out.append(np.c_[x, y] + rng.uniform(-1.5, 1.5) * np.array([0, 1])
+                   + rng.normal(0, 0.2, (len(s), 2)))
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_an_edge_and_passes_that_run_along_it_and_turn_off_come_out_as_two_whole_lines(seed):
+    """An edge drawn as three passes, and three passes drawn along its first third that
+    then turn off round a corner: both are one group (they follow one curve a long way),
+    and the fit grown along the turning passes leaves the edge behind where they turn.
+    The edge passes leave that line from its middle and go on farther than a loose pass
+    lies: they draw another line, and the edge comes out whole, not as its last part."""
+    edge = passes([100, 300], [420, 300], seed=seed)
+    turn = turning_off(seed + 10)
+    out = [s.points for s in pen(edge + turn)]
+    reference = [np.c_[np.linspace(100, 420, 65), np.full(65, 300.0)],
+                 np.mean(turn, axis=0)]
+    assert len(out) == 2
+    assert whole_lines(out, reference, DIAGONAL) == 1.0
+
+
 def test_a_t_gives_a_stem_ending_exactly_on_its_bar():
     out = pen(passes([100, 200], [400, 200], seed=6) + passes([250, 204], [250, 400], seed=7))
     assert len(out) == 2

@@ -15,10 +15,16 @@ The checks. First, a group whose passes leave a band free of ink all along them 
 or than the inks beside it: two tight bundles, or single strokes, drawn close) is split
 there (:func:`band_split`), each side fitted on its own: the width is local, from the
 group's own ink. Then, a piece of which less than ``tuning.member_share`` lies within
-``member_reach`` d_eps of its group's line does not draw that line, and is split off; the
-pieces split off are grouped again among themselves (the components of pass 3's pairs
-among them) and fitted the same way. A long chain of pairs (a line passing along a ring
-for a while) joins pieces of several lines into one group; the fit takes them apart.
+``member_reach`` d_eps of its group's line does not draw that line, and is split off; so
+is a piece the line leaves: it runs along the line and then, from the line's middle (at
+least ``tuning.crumb`` d_eps from either end), away from it for good, farther than
+``member_reach`` along at least ``crumb``. The line turned off onto other ink there (the
+spine grew along a pass that turns off an edge, and the edge's passes go straight on);
+the piece draws another line, which comes out whole fitted on its own, where as a member
+only its stretch beyond the turn would (pass 8's). The pieces split off are grouped again
+among themselves (the components of pass 3's pairs among them) and fitted the same way. A
+long chain of pairs (a line passing along a ring for a while) joins pieces of several
+lines into one group; the fit takes them apart.
 
 The helpers of passes 5 and 6 live here too (:func:`along_pairs`, :func:`regroup`,
 :func:`absorb_lines`): they fit groups again.
@@ -183,11 +189,41 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
     return resample_polyline(spine, h), closed
 
 
-def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float) -> np.ndarray:
-    """The share of each piece within ``reach`` of ``line``."""
+def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float,
+                   least: float, closed: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The share of each piece within ``reach`` of ``line``, and whether each leaves it:
+    runs along it and then, from where the line goes on for at least ``least`` (arc
+    length) either way, away from it to the piece's own end, farther than ``reach`` along
+    at least ``least``. A ring is left by none.
+
+    >>> x = np.linspace(0, 1, 41)[:, None]
+    >>> line = np.hstack([x, 0 * x])
+    >>> on = np.hstack([x, 0 * x + 0.01])
+    >>> off = np.hstack([0.5 * x, np.maximum(0, x - 0.5)])  # along to 0.25, then away
+    >>> share, leaves = _members_along(line, [on, off], 0.02, 0.1, False)
+    >>> share.round(2).tolist(), leaves.tolist()
+    ([1.0, 0.51], [False, True])
+    """
     sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
-    near = project_on(line, np.concatenate(pieces)).distance <= reach
-    return np.add.reduceat(near.astype(np.intp), np.cumsum(sizes) - sizes) / sizes
+    firsts = np.cumsum(sizes) - sizes
+    along = project_on(line, np.concatenate(pieces))
+    near = along.distance <= reach
+    share = np.add.reduceat(near.astype(np.intp), firsts) / sizes
+    leaves = np.zeros(len(pieces), bool)
+    if closed:
+        return share, leaves
+    for k in np.flatnonzero((share > 0) & (share < 1)).tolist():
+        lo, n = int(firsts[k]), int(sizes[k])
+        s = arc_lengths(pieces[k])
+        for way in (1, -1):  # leaving towards its last end, then towards its first
+            mine = near[lo:lo + n][::way]
+            last = int(np.flatnonzero(mine)[-1])  # the last sample near, from this end
+            gone = s[-1] - s[::way][last] if way == 1 else s[::way][last]
+            where = along.at[lo:lo + n][::way][last]
+            if (not mine[last + 1:].any() and gone >= least
+                    and least <= where <= along.length - least):
+                leaves[k] = True
+    return share, leaves
 
 
 def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
@@ -299,8 +335,8 @@ def fit_group(members: list[int], work: Work) -> list[Line]:
     line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
     if len(members) == 1:
         return [Line(line, closed, tuple(members))]
-    share = _members_along(line, pieces, reach)
-    keep = share >= t.member_share
+    share, leaves = _members_along(line, pieces, reach, t.crumb * work.d, closed)
+    keep = (share >= t.member_share) & ~leaves
     if keep.all() or not keep.any():
         return [Line(line, closed, tuple(members))]
     kept = [m for m, ok in zip(members, keep) if ok]
