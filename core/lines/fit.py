@@ -206,23 +206,25 @@ def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float,
     """
     sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
     firsts = np.cumsum(sizes) - sizes
-    along = project_on(line, np.concatenate(pieces))
+    lasts = firsts + sizes - 1
+    ink = np.concatenate(pieces)
+    along = project_on(line, ink)
     near = along.distance <= reach
     share = np.add.reduceat(near.astype(np.intp), firsts) / sizes
-    leaves = np.zeros(len(pieces), bool)
     if closed:
-        return share, leaves
-    for k in np.flatnonzero((share > 0) & (share < 1)).tolist():
-        lo, n = int(firsts[k]), int(sizes[k])
-        s = arc_lengths(pieces[k])
-        for way in (1, -1):  # leaving towards its last end, then towards its first
-            mine = near[lo:lo + n][::way]
-            last = int(np.flatnonzero(mine)[-1])  # the last sample near, from this end
-            gone = s[-1] - s[::way][last] if way == 1 else s[::way][last]
-            where = along.at[lo:lo + n][::way][last]
-            if (not mine[last + 1:].any() and gone >= least
-                    and least <= where <= along.length - least):
-                leaves[k] = True
+        return share, np.zeros(len(pieces), bool)
+    # each piece's first and last sample near the line (every piece with none is not
+    # left: it never ran along), and how far the piece goes on past them to its ends
+    index = np.arange(len(ink))
+    first_near = np.minimum.reduceat(np.where(near, index, len(ink)), firsts)
+    last_near = np.maximum.reduceat(np.where(near, index, -1), firsts)
+    ran = share > 0
+    first_near, last_near = np.where(ran, first_near, firsts), np.where(ran, last_near, lasts)
+    s = arc_lengths(ink, firsts, lasts)
+    leaves = np.zeros(len(pieces), bool)
+    for gone, where in ((s[lasts] - s[last_near], along.at[last_near]),
+                        (s[first_near], along.at[first_near])):
+        leaves |= ran & (gone >= least) & (least <= where) & (where <= along.length - least)
     return share, leaves
 
 
