@@ -20,7 +20,7 @@ is a piece the line leaves: it runs along the line and then, from the line's mid
 least ``tuning.crumb`` d_eps from either end), away from it for good, farther than
 ``member_reach`` along at least ``crumb``. The line turned off onto other ink there (the
 spine grew along a pass that turns off an edge, and the edge's passes go straight on);
-the piece draws another line, which comes out whole fitted on its own, where as a member
+the piece draws another line, which comes out whole fitted on its own, whereas as a member
 only its stretch beyond the turn would (pass 8's). The pieces split off are grouped again
 among themselves (the components of pass 3's pairs among them) and fitted the same way. A
 long chain of pairs (a line passing along a ring for a while) joins pieces of several
