@@ -59,9 +59,9 @@ from .lines import PenRun, lines_from_pen
 from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
 from .output.attributes import NearestInk
-from .output.bezier import sample_bezier
+from .curves.bezier import sample_bezier
 from .output.fills import line_regions
-from .output.memo import StrokeMemo
+from .curves.memo import StrokeMemo
 from .output.to_strokes import to_strokes
 from .params import SimplifyParams
 from .sketch import Region, Sketch, SketchError, Stroke

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from core.arrays.polylines import resample_polyline
-from core.output.bezier import (
+from core.curves.bezier import (
     corner_indices,
     fit_bezier,
     fit_beziers,

@@ -24,6 +24,6 @@ def test_docstring_examples_hold(name):
 
 def test_the_examples_are_there():
     found = sum(doctest.testmod(importlib.import_module(n)).attempted for n in
-                ("core.arrays.geometry", "core.arrays.polylines", "core.output.bezier",
-                 "core.output.memo"))
+                ("core.arrays.geometry", "core.arrays.polylines", "core.curves.bezier",
+                 "core.curves.memo"))
     assert found >= 6

@@ -19,7 +19,7 @@ from test_base_complex import overshooting_side, short_crossing
 from core import Sketch, SketchError, Stroke, read_sketch, simplify, simplify_all, write_sketch
 from core.arrays.geometry import lines_from
 from core.output.attributes import NearestInk
-from core.output.bezier import sample_bezier
+from core.curves.bezier import sample_bezier
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import join_edges, trim_spurs
 from core.params import LOOSE_ALPHA, MIN_ALPHA, SimplifyParams, banded_shares

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import arc_lengths, resample_polyline
-from ..output.bezier import corner_indices
+from ..curves.bezier import corner_indices
 from .work import Work
 
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]

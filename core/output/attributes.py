@@ -17,7 +17,7 @@ import shapely
 from ..arrays.geometry import Segments
 from ..arrays.polylines import arc_lengths
 from ..sketch import Stroke
-from .memo import LruStore
+from ..curves.memo import LruStore
 
 __all__ = ["Carried", "InkRows", "NearestInk"]
 
@@ -69,7 +69,7 @@ class NearestInk:
         self.segments = Segments.of(unit_points)  # also what a cross-section meets (placement)
         self.values = {name: self._stack(name) for name in ("width", "pressure")}
         # what each output polyline took, by content: a slider's replays share most strokes
-        # (bounded, and a value depends on its key alone: see core.output.memo)
+        # (bounded, and a value depends on its key alone: see core.curves.memo)
         self._taken: LruStore[bytes, Carried] = LruStore()
 
     def _stack(self, name: str) -> np.ndarray | None:

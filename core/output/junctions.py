@@ -21,7 +21,7 @@ import shapely
 
 from ..arrays.geometry import lines_from, unit_rows
 from ..arrays.polylines import arc_lengths, resample_polyline
-from .bezier import SAMPLES_PER_SEGMENT, sample_bezier
+from ..curves.bezier import SAMPLES_PER_SEGMENT, sample_bezier
 
 __all__ = ["cut_to", "meet_at_corners", "meet_at_junctions", "met_ends", "tip_of"]
 

@@ -122,7 +122,7 @@ from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
 from ..params import SimplifyParams
 from .attributes import InkRows, NearestInk
-from .bezier import (
+from ..curves.bezier import (
     SAMPLES_PER_SEGMENT,
     corner_indices,
     fit_beziers,
@@ -131,7 +131,7 @@ from .bezier import (
 )
 from .bi_edges import InkFill, merge_bi_edges, merge_filled_bundles
 from .junctions import meet_at_corners, meet_at_junctions, met_ends
-from .memo import StrokeMemo, shape_key
+from ..curves.memo import StrokeMemo, shape_key
 from .placement import PLACE_REACH, centred_on_ink
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
