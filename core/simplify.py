@@ -58,9 +58,9 @@ from .io.cleaning import (
 from .lines import PenRun, lines_from_pen
 from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
-from .output.attributes import NearestInk
+from .curves.attributes import NearestInk
 from .curves.bezier import sample_bezier
-from .output.fills import line_regions
+from .curves.fills import line_regions
 from .curves.memo import StrokeMemo
 from .output.to_strokes import to_strokes
 from .params import SimplifyParams
@@ -89,7 +89,7 @@ FILL_MIN_SHARE = 1e-5
 FILL_CLOSE = 0.25
 
 #: ... and a free end is carried on this many bundle widths, to the first line it meets
-#: (:func:`core.output.fills.extensions`): the clean lines of the default stage stop up to
+#: (:func:`core.curves.fills.extensions`): the clean lines of the default stage stop up to
 #: about a bundle width short of the line they meet (the house's walls, 0.8 and 0.9), two
 #: lines meeting at a corner up to twice that (its roof: 2.0 between the two ends)
 FILL_REACH = 2.0
@@ -168,7 +168,7 @@ class SimplifyResult:
 
     def fill_regions(self, min_share: float = FILL_MIN_SHARE) -> list[Region]:
         """The closed regions of the clean lines to fill, as plain rings (input
-        coordinates), largest first (:func:`core.output.fills.line_regions`): the white
+        coordinates), largest first (:func:`core.curves.fills.line_regions`): the white
         spaces the output strokes enclose, where two lines that stop within
         ``2 * FILL_CLOSE`` bundle widths of each other close a region, leaving out slivers
         smaller than ``min_share`` of the area of the drawing's box. A region lying inside

@@ -6,7 +6,7 @@ import numpy as np
 import shapely
 
 from core.arrays.polylines import resample_polyline
-from core.output.attributes import NearestInk
+from core.curves.attributes import NearestInk
 from core.output.placement import centred_on_ink
 from core.sketch import Stroke
 

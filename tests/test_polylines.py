@@ -20,7 +20,7 @@ from core.arrays.polylines import (
     total_lengths,
 )
 from core.merge.fourier import curve_descriptors, fourier_descriptors
-from core.output.attributes import NearestInk
+from core.curves.attributes import NearestInk
 from core.output.stroke_graph import end_directions
 
 

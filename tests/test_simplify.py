@@ -18,7 +18,7 @@ from test_base_complex import overshooting_side, short_crossing
 
 from core import Sketch, SketchError, Stroke, read_sketch, simplify, simplify_all, write_sketch
 from core.arrays.geometry import lines_from
-from core.output.attributes import NearestInk
+from core.curves.attributes import NearestInk
 from core.curves.bezier import sample_bezier
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import join_edges, trim_spurs
@@ -853,7 +853,7 @@ def test_fills_are_the_regions_the_clean_lines_close_and_stay_inside_them(name):
     ones of the even-odd rule) are filled, and nothing lies outside them. Before, fills
     were the merged complex's patches, bounded by the rough ink: slivers along the
     lines, while the house's walls and roof and 82% of the cup went unfilled."""
-    from core.output.fills import extensions
+    from core.curves.fills import extensions
     from core.simplify import FILL_CLOSE, FILL_REACH
 
     result = simplify(read_sketch(SAMPLES / f"{name}.scap"))

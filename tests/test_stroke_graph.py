@@ -9,7 +9,7 @@ import shapely
 
 from core.arrays.components import cluster_labels, tight_cluster_labels
 from core.arrays.geometry import lines_from
-from core.output.attributes import InkRows
+from core.curves.attributes import InkRows
 from core.output.bi_edges import InkFill
 from core.output.stroke_graph import Edge, build_graph
 from core.output.to_strokes import THROUGH_DETOUR, DrawnThrough, trim_doubled_ends

@@ -44,7 +44,7 @@ import shapely
 
 from ..arrays.geometry import lines_from, tangents
 from ..arrays.polylines import gaussian_kernel, smoothed_ring
-from .attributes import NearestInk
+from ..curves.attributes import NearestInk
 
 __all__ = ["PLACE_ALONG_COS", "PLACE_PRIOR", "PLACE_REACH", "centred_on_ink"]
 

@@ -121,7 +121,7 @@ from ..arrays.polylines import (
 from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
 from ..params import SimplifyParams
-from .attributes import InkRows, NearestInk
+from ..curves.attributes import InkRows, NearestInk
 from ..curves.bezier import (
     SAMPLES_PER_SEGMENT,
     corner_indices,

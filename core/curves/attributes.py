@@ -17,7 +17,7 @@ import shapely
 from ..arrays.geometry import Segments
 from ..arrays.polylines import arc_lengths
 from ..sketch import Stroke
-from ..curves.memo import LruStore
+from .memo import LruStore
 
 __all__ = ["Carried", "InkRows", "NearestInk"]
 
