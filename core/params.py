@@ -103,7 +103,7 @@ class Tuning:
     bin             the centreline is fitted in bins this long along its spine ...
     smooth          ... and its offsets smoothed by a Gaussian of this sigma
     snap            an end within this of another line meets it (T and L junctions; the
-                    complex stage's step 10 too, core.output.junctions)
+                    complex stage's step 10 too)
     overshoot       an end that crosses another line and runs on past it at most this
                     long is cut at the crossing: an overshoot, not a line drawn through
                     (the pen stage; the complex stage leaves overshoots as drawn)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..arrays.polylines import arc_lengths, resample_polyline
 from ..complex.noding import GRID
-from ..output.junctions import met_ends
+from .junctions import met_ends
 from ..output.to_strokes import fit_lines
 from .work import Work
 

@@ -8,7 +8,7 @@ import numpy as np
 import shapely
 
 from ..arrays.polylines import resample_polyline
-from ..output.junctions import cut_to, tip_of
+from .junctions import cut_to, tip_of
 from .work import Line
 
 __all__ = ["End", "chain", "meeting"]

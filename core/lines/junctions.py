@@ -1,18 +1,177 @@
-"""Pass 9 of :mod:`core.lines`: junctions taken from the fitted lines
-(:func:`core.output.junctions.meet_at_junctions`, shared with the complex stage): an open
-line's end that stops within ``tuning.snap`` d_eps of another line, meeting it at an angle
-(more than the merge angle), meets it exactly, and an end that crosses it and runs on by
-at most ``tuning.overshoot`` d_eps is cut at the crossing; lines that cross farther from
-their ends go straight through. Not at epsilon 0, which keeps every stroke as drawn."""
+"""Pass 9 of :mod:`core.lines`: junctions taken from the fitted lines. An open line's end
+that stops within ``tuning.snap`` d_eps of another line, meeting it at an angle (more than
+the merge angle), meets it exactly: an end short of the line is extended onto its nearest
+point (a T, or an L where the other line ends there too), and an end that crosses it and
+runs on by at most ``tuning.overshoot`` d_eps is cut at the crossing. Lines that cross
+farther from their ends go straight through: nothing here moves them. Fitting Beziers
+(pass 10) moves a line a little, so after the fit each end that met a line is moved again
+onto that line's curve (:func:`met_ends`). Not at epsilon 0, which keeps every stroke as
+drawn.
+
+Invariant: only ends move, each by at most ``over``; a line never gains or loses more
+than that at an end.
+"""
 
 from __future__ import annotations
 
-import numpy as np
+from dataclasses import replace
 
-from ..output.junctions import meet_at_junctions
+import numpy as np
+import shapely
+
+from ..arrays.geometry import lines_from, unit_rows
+from ..arrays.polylines import arc_lengths, resample_polyline
+from ..curves.bezier import SAMPLES_PER_SEGMENT, sample_bezier
 from .work import Line, Work
 
-__all__ = ["run"]
+__all__ = ["Meets", "cut_to", "meet_at_junctions", "met_ends", "run", "tip_of"]
+
+#: which line each end of a line meets: (first end's, last end's), None for a free end
+Meets = tuple[int | None, int | None]
+
+
+def tip_of(points: np.ndarray, end: int, reach: float) -> np.ndarray:
+    """The part of a polyline within ``reach`` (arc length) of one end, from that end."""
+    pts = points if end == 0 else points[::-1]
+    s = arc_lengths(pts)
+    k = max(2, int(np.searchsorted(s, reach, side="right")))
+    return pts[:k]
+
+
+def cut_to(points: np.ndarray, end: int, at: np.ndarray, reach: float) -> np.ndarray:
+    """The polyline with its ``end`` moved to ``at``: cut there if ``at`` lies on its last
+    ``reach``, else extended to it. Oriented as given.
+
+    >>> line = np.array([[0.0, 0.0], [2.0, 0.0]])
+    >>> cut_to(line, 1, np.array([1.5, 0.0]), 1.0).tolist()  # cut back
+    [[0.0, 0.0], [1.5, 0.0]]
+    >>> cut_to(line, 0, np.array([-0.5, 0.0]), 1.0).tolist()  # extended
+    [[-0.5, 0.0], [0.0, 0.0], [2.0, 0.0]]
+    """
+    pts = points if end == 1 else points[::-1]
+    s = arc_lengths(pts)
+    line = shapely.LineString(pts)
+    t = float(shapely.line_locate_point(line, shapely.Point(at)))
+    if s[-1] - t <= reach and np.hypot(*(shapely.get_coordinates(
+            shapely.line_interpolate_point(line, t))[0] - at)) <= 1e-9 + 1e-6 * reach:
+        keep = pts[s < t]
+        out = np.concatenate([keep, [at]]) if len(keep) else np.stack([pts[0], at])
+    else:
+        out = np.concatenate([pts, [at]])
+    return out if end == 1 else out[::-1]
+
+
+def _end_target(points: np.ndarray, end: int, others: np.ndarray, reach: float,
+                over: float, cos_max: float, cut: bool
+                ) -> tuple[np.ndarray, int] | None:
+    """Where one end should meet one of the ``others`` (shapely lines): the crossing
+    nearest the end on its last ``over`` (where ``cut``; else an end that crosses a line
+    there is left as it is), else the nearest point within ``reach``, and which of
+    ``others``; None where there is none, or the line runs along the other."""
+    e = points[0] if end == 0 else points[-1]
+    tip = tip_of(points, end, over)
+    direction = unit_rows((tip[0] - tip[-1])[None])[0]  # out of the line, at the end
+    best, best_gap = None, np.inf
+    for which, other in enumerate(others):
+        crossing = shapely.get_coordinates(shapely.intersection(shapely.LineString(tip),
+                                                                other))
+        if len(crossing) and not cut:
+            return None  # it runs on past a line: an overshoot, left as drawn
+        if len(crossing):
+            target = crossing[np.argmin(np.hypot(*(crossing - e).T))]
+        else:
+            target = shapely.get_coordinates(shapely.shortest_line(shapely.Point(e),
+                                                                   other))[1]
+        gap = float(np.hypot(*(target - e)))
+        if gap > (over if len(crossing) else reach) or gap >= best_gap:
+            continue
+        foot = float(shapely.line_locate_point(other, shapely.Point(target)))
+        ahead = shapely.get_coordinates(shapely.line_interpolate_point(
+            other, [max(foot - reach / 4, 0.0), min(foot + reach / 4, other.length)]))
+        along = unit_rows((ahead[1] - ahead[0])[None])[0]
+        if abs(float(along @ direction)) > cos_max:  # running along it: no junction
+            continue
+        best, best_gap = (target, which), gap
+    return best
+
+
+def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], reach: float,
+                      over: float, cos_max: float, spacing: float, cut: bool = True
+                      ) -> tuple[list[np.ndarray], list[Meets]]:
+    """``lines`` with each open end that stops near another line meeting it (see the
+    module), and which line each end meets.
+
+    Args:
+        lines: (n, 2) polylines, evenly spaced ``spacing`` apart.
+        closed: whether each line is a ring (its ends never move).
+        reach: the widest gap an end is extended across.
+        over: the longest overshoot cut back; a line no longer than twice this is left.
+        cos_max: an end running along the other line (|cos| above this) is no junction.
+        spacing: a line whose end moved is resampled to this.
+        cut: whether an overshoot is cut back (else an end that crosses a line within
+            ``over`` of it is left as drawn, and only ends short of a line move).
+
+    Returns:
+        The lines (those unchanged as given) and, for each, the lines its ends meet.
+
+    >>> bar = np.array([[0.0, 0.0], [10.0, 0.0]])
+    >>> stem = np.array([[5.0, 0.5], [5.0, 10.0]])  # stops 0.5 short of the bar
+    >>> out, meets = meet_at_junctions([bar, stem], [False, False], 1.0, 2.0, 0.87, 0.5)
+    >>> out[1][0].tolist(), meets
+    ([5.0, 0.0], [(None, None), (0, None)])
+    """
+    geoms = lines_from(lines)
+    tree = shapely.STRtree(geoms)
+    out, meets = [], []
+    for k, pts in enumerate(lines):
+        met: list[int | None] = [None, None]
+        if closed[k] or len(pts) < 2 or arc_lengths(pts)[-1] <= 2 * over:
+            out.append(pts)
+            meets.append((None, None))
+            continue
+        moved = pts
+        for end in (0, 1):
+            e = moved[0] if end == 0 else moved[-1]
+            near = sorted(j for j in tree.query(shapely.Point(e), predicate="dwithin",
+                                                distance=over).tolist() if j != k)
+            if not near:
+                continue
+            found = _end_target(moved, end, geoms[near], reach, over, cos_max, cut)
+            if found is not None:
+                moved = cut_to(moved, end, found[0], over)
+                met[end] = near[found[1]]
+        out.append(resample_polyline(moved, spacing) if moved is not pts else pts)
+        meets.append((met[0], met[1]))
+    return out, meets
+
+
+def met_ends(fitted: list, meets: list[Meets]) -> list:
+    """The fitted strokes (:class:`core.output.to_strokes.FittedStroke`, dataclasses with
+    ``points`` and ``bezier``) with each end that meets another stroke moved onto that
+    stroke's fitted curve, its Bezier handle moved with it (the tangent kept), so that a T
+    or an L meets exactly in the output."""
+    out = list(fitted)
+    if all(m is None for pair in meets for m in pair):
+        return out
+    geoms = [shapely.LineString(f.points) for f in fitted]
+    for k, pair in enumerate(meets):
+        moved = False
+        bezier = out[k].bezier.copy()
+        for end, other in enumerate(pair):
+            if other is None or other == k:
+                continue
+            at = 0 if end == 0 else len(bezier) - 1
+            handle = 1 if end == 0 else len(bezier) - 2
+            target = shapely.get_coordinates(shapely.shortest_line(
+                shapely.Point(bezier[at]), geoms[other]))[1]
+            shift = target - bezier[at]
+            bezier[at] += shift
+            bezier[handle] += shift
+            moved = True
+        if moved:
+            out[k] = replace(out[k], points=sample_bezier(bezier, SAMPLES_PER_SEGMENT),
+                             bezier=bezier)
+    return out
 
 
 def run(work: Work) -> Work:

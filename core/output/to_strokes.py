@@ -130,7 +130,8 @@ from ..curves.bezier import (
     smooth_between_corners,
 )
 from .bi_edges import InkFill, merge_bi_edges, merge_filled_bundles
-from .junctions import meet_at_corners, meet_at_junctions, met_ends
+from ..lines.junctions import meet_at_junctions, met_ends
+from .junctions import meet_at_corners
 from ..curves.memo import StrokeMemo, shape_key
 from .placement import PLACE_REACH, centred_on_ink
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
