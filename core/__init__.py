@@ -18,11 +18,11 @@ Everything an application needs is exported here; nothing outside ``core`` reach
 """
 
 from .complex.base_complex import BaseComplex, BaseComplexError, Patch, build_base_complex
+from .curves.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier, subdivide_bezier
 from .engine import Simplified, simplified
 from .io.cleaning import CleaningReport, Normalisation, clean_sketch, normalised_strokes
 from .io.files import read_sketch, write_sketch
 from .merge.fourier import curve_descriptors, fd_distance, fourier_descriptor, fourier_descriptors
-from .curves.bezier import SAMPLES_PER_SEGMENT, evaluate_bezier, sample_bezier, subdivide_bezier
 from .parallel import default_jobs, simplify_all
 from .params import EPSILON_SOFT_MAX, PAPER_ALPHA, SimplifyParams
 from .replay_cache import COVERED_EPSILON, ReplayCache

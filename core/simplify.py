@@ -48,6 +48,10 @@ from .arrays.geometry import Reached, polygons_from
 from .complex.base_complex import BaseComplex, build_base_complex
 from .complex.complex_state import ComplexState, Merge
 from .complex.noding import more_crossings_than
+from .curves.attributes import NearestInk
+from .curves.bezier import sample_bezier
+from .curves.fills import line_regions
+from .curves.memo import StrokeMemo
 from .io.cleaning import (
     CleaningReport,
     Normalisation,
@@ -58,10 +62,6 @@ from .io.cleaning import (
 from .lines import PenRun, lines_from_pen
 from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
-from .curves.attributes import NearestInk
-from .curves.bezier import sample_bezier
-from .curves.fills import line_regions
-from .curves.memo import StrokeMemo
 from .output.to_strokes import to_strokes
 from .params import SimplifyParams
 from .sketch import Region, Sketch, SketchError, Stroke

@@ -19,8 +19,8 @@ from core.arrays.polylines import (
     starts,
     total_lengths,
 )
-from core.merge.fourier import curve_descriptors, fourier_descriptors
 from core.curves.attributes import NearestInk
+from core.merge.fourier import curve_descriptors, fourier_descriptors
 from core.output.stroke_graph import end_directions
 
 

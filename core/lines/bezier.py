@@ -1,19 +1,70 @@
 """Pass 10 of :mod:`core.lines`: each line smoothed between its corners and fitted with
-piecewise cubic Beziers (:func:`core.output.to_strokes.fit_lines`, shared with the
-complex stage), the fits kept by content for a slider's replays. Smoothing moves the
+piecewise cubic Beziers (:func:`fit_lines`), the fits kept by content for a slider's
+replays. Smoothing moves the
 line an end met at a junction (pass 9) a little: each such end is moved again onto that
 line's fitted curve, its Bezier handle moved with it (the tangent kept), so that a T or an
-L meets exactly in the output (:func:`core.output.junctions.met_ends`)."""
+L meets exactly in the output (:func:`core.lines.junctions.met_ends`)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import numpy as np
+
 from ..arrays.polylines import arc_lengths, resample_polyline
 from ..complex.noding import GRID
+from ..curves.bezier import (
+    SAMPLES_PER_SEGMENT,
+    corner_indices,
+    fit_beziers,
+    sample_bezier,
+    smooth_between_corners,
+)
+from ..curves.memo import StrokeMemo, shape_key
+from ..params import SimplifyParams
 from .junctions import met_ends
-from ..output.to_strokes import fit_lines
 from .work import Work
 
-__all__ = ["run"]
+__all__ = ["FittedStroke", "fit_lines", "run"]
+
+
+@dataclass(frozen=True)
+class FittedStroke:
+    """One output stroke in the unit frame."""
+
+    points: np.ndarray  # sampled polyline of the Bezier
+    bezier: np.ndarray  # (3k + 1, 2) control points
+    closed: bool
+
+
+def _smoothed(pts: np.ndarray, closed: bool, params: SimplifyParams) -> np.ndarray:
+    """A line sampled every d_eps / 4, smoothed between its corners by ``params.smoothing``
+    d_eps (a sigma of 4 * smoothing samples)."""
+    if params.smoothing <= 0:
+        return pts
+    corners = corner_indices(pts, params.corner_angle, params.alpha)
+    return smooth_between_corners(pts, 4 * params.smoothing, corners, closed)
+
+
+def fit_lines(lines: list[np.ndarray], closed: list[bool], params: SimplifyParams,
+              memo: StrokeMemo | None) -> list[FittedStroke]:
+    """Each line (unit frame, evenly spaced) smoothed between its corners and fitted with
+    piecewise cubic Beziers, all at once; ``params`` resolved. A fit is kept in ``memo``
+    by the line before smoothing (smoothing depends on it and the params alone): a replay
+    smooths and fits only the lines it has not seen."""
+    memo = StrokeMemo() if memo is None else memo
+    strokes = [(shape_key(pts, c), pts, c) for pts, c in zip(lines, closed)]
+    fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
+    todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
+    if todo:  # fitted together
+        made = fit_beziers([_smoothed(pts, closed, params) for _, (pts, closed) in todo],
+                           params.fit_error * params.alpha, params.corner_angle,
+                           [closed for _, (_, closed) in todo])
+        for (key, _), bezier in zip(todo, made):
+            fits[key] = (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT))
+            memo.fits.put(key, fits[key])
+    return [FittedStroke(fits[key][1], fits[key][0], closed) for key, _, closed in strokes]
+
 
 
 def run(work: Work) -> Work:

@@ -146,7 +146,7 @@ def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], reach: float,
 
 
 def met_ends(fitted: list, meets: list[Meets]) -> list:
-    """The fitted strokes (:class:`core.output.to_strokes.FittedStroke`, dataclasses with
+    """The fitted strokes (:class:`core.lines.bezier.FittedStroke`, dataclasses with
     ``points`` and ``bezier``) with each end that meets another stroke moved onto that
     stroke's fitted curve, its Bezier handle moved with it (the tangent kept), so that a T
     or an L meets exactly in the output."""

@@ -35,10 +35,10 @@ import numpy as np
 import shapely
 
 from ..arrays.geometry import directions_at, lines_from, nearest_on, unit_rows
+from ..curves.memo import StrokeMemo
 from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from ..merge.fourier import curve_descriptors, fd_distance
 from ..params import SimplifyParams
-from ..curves.memo import StrokeMemo
 from .stroke_graph import Edge
 
 __all__ = ["FILL_REACH", "JUDGE_AHEAD", "BiEdgePass", "InkFill", "merge_bi_edges",

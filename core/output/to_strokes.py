@@ -120,19 +120,16 @@ from ..arrays.polylines import (
 )
 from ..complex.complex_state import ComplexState
 from ..complex.noding import GRID
-from ..params import SimplifyParams
 from ..curves.attributes import InkRows, NearestInk
 from ..curves.bezier import (
-    SAMPLES_PER_SEGMENT,
     corner_indices,
-    fit_beziers,
-    sample_bezier,
-    smooth_between_corners,
 )
-from .bi_edges import InkFill, merge_bi_edges, merge_filled_bundles
-from ..lines.junctions import meet_at_junctions, met_ends
-from .junctions import meet_at_corners
 from ..curves.memo import StrokeMemo, shape_key
+from ..lines.bezier import FittedStroke, fit_lines
+from ..lines.junctions import meet_at_junctions, met_ends
+from ..params import SimplifyParams
+from .bi_edges import InkFill, merge_bi_edges, merge_filled_bundles
+from .junctions import meet_at_corners
 from .placement import PLACE_REACH, centred_on_ink
 from .stroke_graph import Edge, StrokeGraph, build_graph, end_directions, rebuild
 
@@ -142,15 +139,6 @@ __all__ = [
     "contract_short_edges", "fit_lines", "join_edges", "linework", "renode", "split_at_tips",
     "to_strokes", "trim_doubled_ends", "trim_spurs",
 ]
-
-
-@dataclass(frozen=True)
-class FittedStroke:
-    """One output stroke in the unit frame."""
-
-    points: np.ndarray  # sampled polyline of the Bezier
-    bezier: np.ndarray  # (3k + 1, 2) control points
-    closed: bool
 
 
 def linework(state: ComplexState) -> list[Edge]:
@@ -719,15 +707,6 @@ def split_at_tips(chains: list[Edge], d_eps: float, memo: StrokeMemo) -> list[Ed
     return out
 
 
-def _smoothed(pts: np.ndarray, closed: bool, params: SimplifyParams) -> np.ndarray:
-    """A line sampled every d_eps / 4, smoothed between its corners by ``params.smoothing``
-    d_eps (a sigma of 4 * smoothing samples)."""
-    if params.smoothing <= 0:
-        return pts
-    corners = corner_indices(pts, params.corner_angle, params.alpha)
-    return smooth_between_corners(pts, 4 * params.smoothing, corners, closed)
-
-
 def _joined_again(merged: list[Edge], strokes: list[Edge], params: SimplifyParams,
                   snap: float) -> list[Edge]:
     """The strokes after a pass over whole strokes (``merged``, from ``strokes``): joined
@@ -786,23 +765,3 @@ def to_strokes(state: ComplexState, params: SimplifyParams, memo: StrokeMemo,
                                      cos_max, d_eps / 4, cut=False)
     lines, meets = meet_at_corners(lines, closed, meets, t.corner * d_eps, cos_max, d_eps / 4)
     return met_ends(fit_lines(lines, closed, params, memo), meets)
-
-
-def fit_lines(lines: list[np.ndarray], closed: list[bool], params: SimplifyParams,
-              memo: StrokeMemo | None) -> list[FittedStroke]:
-    """Each line (unit frame, evenly spaced) smoothed between its corners and fitted with
-    piecewise cubic Beziers, all at once; ``params`` resolved. A fit is kept in ``memo``
-    by the line before smoothing (smoothing depends on it and the params alone): a replay
-    smooths and fits only the lines it has not seen."""
-    memo = StrokeMemo() if memo is None else memo
-    strokes = [(shape_key(pts, c), pts, c) for pts, c in zip(lines, closed)]
-    fits = {key: memo.fits.get(key) for key, _, _ in strokes if key in memo.fits}
-    todo = list({key: (pts, closed) for key, pts, closed in strokes if key not in fits}.items())
-    if todo:  # fitted together
-        made = fit_beziers([_smoothed(pts, closed, params) for _, (pts, closed) in todo],
-                           params.fit_error * params.alpha, params.corner_angle,
-                           [closed for _, (_, closed) in todo])
-        for (key, _), bezier in zip(todo, made):
-            fits[key] = (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT))
-            memo.fits.put(key, fits[key])
-    return [FittedStroke(fits[key][1], fits[key][0], closed) for key, _, closed in strokes]
