@@ -8,7 +8,10 @@ The folders are the pipeline, in the order data flows through it (``docs/design.
 * :mod:`core.io` reads and writes sketch files and cleans strokes into the unit frame;
 * :mod:`core.complex` nodes the strokes into the base complex (nodes, curves, patches);
 * :mod:`core.merge` agglomerates it: the greedy merge loop and what it measures;
-* :mod:`core.output` turns the simplified complex back into fitted strokes;
+* :mod:`core.lines` draws the lines: one fitted to each group of input strokes that the
+  simplified complex says draw one line;
+* :mod:`core.curves` fits the lines' Bezier curves, carries the ink's attributes onto them,
+  and finds the regions they close;
 * :mod:`core.arrays` holds the array helpers all of them share.
 
 At the top: the plain data (:mod:`core.sketch`, :mod:`core.params`), the API

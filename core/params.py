@@ -11,7 +11,7 @@ from .arrays.geometry import Segments, tangents
 from .arrays.polylines import resample_each, split, total_lengths
 from .sketch import SketchError
 
-__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LINE_STAGES", "LOOSE_ALPHA",
+__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA",
            "MIN_ALPHA", "Tuning",
            "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "SWAP_SHARE", "WIDEST_ALPHA",
            "WIDE_BANDED", "WIDE_FROM", "SimplifyParams", "banded_shares", "ink_spacing"]
@@ -57,14 +57,9 @@ MIN_ALPHA = 1e-4
 #: "auto" fill_gap is the ink's spacing, at most this share of d_eps (see resolved)
 FILL_GAP_SHARE = 0.7
 
-#: the output stages (:attr:`SimplifyParams.lines`): lines drawn from the pen's strokes
-#: (:mod:`core.lines`), or chained from the complex's pieces (:mod:`core.output`)
-LINE_STAGES = ("pen", "complex")
-
-
 @dataclass(frozen=True)
 class Tuning:
-    """The tuned constants of the pen stage (:mod:`core.lines`), in one place. Lengths are
+    """The tuned constants of the line stage (:mod:`core.lines`), in one place. Lengths are
     multiples of the bundle width d_eps; each says why it is what it is. How each was
     measured is in ``docs/decisions.md``.
 
@@ -102,14 +97,9 @@ class Tuning:
                     (StrokeAggregator's judging against the local spacing of lines)
     bin             the centreline is fitted in bins this long along its spine ...
     smooth          ... and its offsets smoothed by a Gaussian of this sigma
-    snap            an end within this of another line meets it (T and L junctions; the
-                    complex stage's step 10 too)
+    snap            an end within this of another line meets it (T and L junctions)
     overshoot       an end that crosses another line and runs on past it at most this
                     long is cut at the crossing: an overshoot, not a line drawn through
-                    (the pen stage; the complex stage leaves overshoots as drawn)
-    corner          two free ends that each stop at most this short of the corner they
-                    draw meet there (an L whose sides both stop short, as a roof's top;
-                    the complex stage): 1.5, the house sample's roof sides stop 1.4 short
     crumb           a line shorter than this whose every point lies within absorb_reach
                     of a longer line is that line's (a hook at a stroke's end, a crumb
                     at a junction): its pieces join that line's group; so is a longer
@@ -141,7 +131,6 @@ class Tuning:
     smooth: float = 0.5
     snap: float = 1.0
     overshoot: float = 2.0
-    corner: float = 1.5
     crumb: float = 3.0
     absorb_reach: float = 0.75
     band_ratio: float = 1.0
@@ -170,11 +159,7 @@ class SimplifyParams:
                   lies (:meth:`resolved`), 0.012 (the paper's) to 0.015; a sparse
                   drawing is tried up to 0.03 first, kept where its result keeps the
                   ink (:meth:`widths`). A result's params hold the number used
-    beta          short-edge ratio to the patch perimeter for smoothing (paper: 0.04)
-    gamma         |cos| of the angle below which two edges at a junction are taken as
-                  crossing, not continuing (paper: 0.174, i.e. 80 degrees)
     angle         largest tangent angle, in degrees, between curves that may merge (d_theta)
-    join_angle    largest turn, in degrees, where two output edges join into one stroke
     corner_angle  turns sharper than this, in degrees, stay corners of the fitted Beziers
     fit_error     largest distance of a fitted Bezier from its polyline, as a fraction of
                   d_eps = alpha * D (the bundle width sets how exact the fit need be)
@@ -182,11 +167,9 @@ class SimplifyParams:
                   Gaussian of this many d_eps (0: none), so that it shows no steps where
                   it passes from one stroke of a bundle to the next
     fill_gap      the widest band free of ink that may lie inside one bundle (a fraction
-                  of D): output lines a little farther apart than d_eps whose space between
-                  is filled by ink running along them, with no gap wider than this, are one
-                  bundle and merge (:func:`core.output.bi_edges.merge_filled_bundles`),
-                  and a stroke's end up to d_eps off another stroke is cut where the ink
-                  fills so between them (:func:`core.output.to_strokes.trim_doubled_ends`).
+                  of D): two lines whose inks leave no band free of ink wider than this
+                  between them may be one line drawn twice, and are joined where their
+                  joint fit keeps both (:mod:`core.lines.join`, :mod:`core.lines.absorb`).
                   "auto" (default): the ink's spacing (:func:`ink_spacing`), at most
                   :data:`FILL_GAP_SHARE` of d_eps; 0: never. A result's params hold the
                   number used
@@ -194,9 +177,6 @@ class SimplifyParams:
     max_curves    refuse a sketch whose strokes cross into more curves than this (None: no
                   limit): the largest real sketches make about 17,000, and one of 100,000
                   takes many minutes
-    lines         the output stage: "complex" (default) chains the simplified complex's
-                  curves (:mod:`core.output`); "pen" fits one line to each group of input
-                  strokes the agglomeration says draw one line (:mod:`core.lines`)
     skip          names of pen passes to leave out, for ablations (:data:`core.lines.PASSES`)
     tuning        the pen stage's tuned constants (:class:`Tuning`)
     """
@@ -204,10 +184,7 @@ class SimplifyParams:
     epsilon: float = 0.015
     samples: int = 256
     alpha: float | str = "auto"
-    beta: float = 0.04
-    gamma: float = 0.174
     angle: float = 30.0
-    join_angle: float = 40.0
     corner_angle: float = 50.0
     fit_error: float = 1 / 6
     smoothing: float = 0.5
@@ -215,7 +192,6 @@ class SimplifyParams:
     target_patches: int | None = None
     target_curves: int | None = None
     max_curves: int | None = 100_000
-    lines: str = "complex"
     skip: tuple[str, ...] = ()
     tuning: Tuning = Tuning()
 
@@ -233,7 +209,7 @@ class SimplifyParams:
         if isinstance(self.skip, list):
             object.__setattr__(self, "skip", tuple(self.skip))
 
-        numbers = ("epsilon", "beta", "gamma", "angle", "join_angle", "corner_angle",
+        numbers = ("epsilon", "angle", "corner_angle",
                    "fit_error", "smoothing") + (() if self.alpha == "auto" else ("alpha",)) \
             + (() if self.fill_gap == "auto" else ("fill_gap",))
         for name in numbers:
@@ -248,13 +224,9 @@ class SimplifyParams:
               f"alpha must be 'auto' or in [{MIN_ALPHA}, 0.2], got {self.alpha!r}")
         check(self.fill_gap == "auto" or 0 <= self.fill_gap <= 0.2,
               f"fill_gap must be 'auto' or in [0, 0.2], got {self.fill_gap!r}")
-        check(0 < self.beta <= 1, f"beta must be in (0, 1], got {self.beta}")
-        check(0 <= self.gamma <= 1, f"gamma must be in [0, 1], got {self.gamma}")
-        for name in ("angle", "join_angle", "corner_angle"):
+        for name in ("angle", "corner_angle"):
             check(0 <= getattr(self, name) <= 180, f"{name} must be 0 to 180 degrees")
         check(0 < self.fit_error <= 1, f"fit_error must be in (0, 1], got {self.fit_error}")
-        check(self.lines in LINE_STAGES,
-              f"lines must be one of {', '.join(LINE_STAGES)}, got {self.lines!r}")
         check(isinstance(self.skip, tuple) and all(isinstance(x, str) for x in self.skip),
               f"skip must be a tuple of pass names, got {self.skip!r}")
         check(isinstance(self.tuning, Tuning), "tuning must be a Tuning")

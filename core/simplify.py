@@ -62,7 +62,6 @@ from .io.cleaning import (
 from .lines import PenRun, lines_from_pen
 from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
-from .output.to_strokes import to_strokes
 from .params import SimplifyParams
 from .sketch import Region, Sketch, SketchError, Stroke
 
@@ -89,9 +88,9 @@ FILL_MIN_SHARE = 1e-5
 FILL_CLOSE = 0.25
 
 #: ... and a free end is carried on this many bundle widths, to the first line it meets
-#: (:func:`core.curves.fills.extensions`): the clean lines of the default stage stop up to
-#: about a bundle width short of the line they meet (the house's walls, 0.8 and 0.9), two
-#: lines meeting at a corner up to twice that (its roof: 2.0 between the two ends)
+#: (:func:`core.curves.fills.extensions`): a line may stop up to about a bundle width
+#: short of the line it meets where pass 9 found no junction, two lines meeting at a
+#: corner up to twice that
 FILL_REACH = 2.0
 
 #: fills follow each output Bezier this many steps a cubic
@@ -212,14 +211,9 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
             timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
-    # at epsilon 0 nothing merged: each stroke comes back as drawn (cleaned, fitted), as
-    # the pen stage gives it; the complex stage would chain strokes that merely touch
-    if params.lines == "pen" or params.epsilon == 0:
-        pen = lines_from_pen(state, params.resolved(), ink.unit_points, memo)
-        fitted = pen.work.fitted
-        timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
-    else:
-        fitted = to_strokes(state, params, memo, ink)
+    pen = lines_from_pen(state, params.resolved(), ink.unit_points, memo)
+    fitted = pen.work.fitted
+    timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
     t1 = time.perf_counter()
     strokes = []
     for f, ink_of in zip(fitted, ink.transfer([f.points for f in fitted])):

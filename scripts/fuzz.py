@@ -1,13 +1,11 @@
 """Fuzz ``core.simplify`` with random and adversarial sketches (``make fuzz``).
 
-    python scripts/fuzz.py [--examples 10000] [--only KIND] [--seed S] [--lines pen]
+    python scripts/fuzz.py [--examples 10000] [--only KIND] [--seed S]
 
 The examples are shared among the kinds of ``tests/fuzz_sketches.py`` (a long stroke of
 100,000 points gets a hundredth of a share). Per kind: how many sketches were simplified,
 how many refused with the documented SketchError, and the first failure (any other
 exception or a broken invariant), shrunk by hypothesis. Exits 1 if anything failed.
-``--lines pen`` fuzzes the pen stage (``SimplifyParams.lines``), drawn at random here where
-``make test`` draws the same examples every run.
 """
 
 from __future__ import annotations
@@ -52,11 +50,8 @@ def main() -> int:
     ap.add_argument("--examples", type=int, default=10_000, help="in all, shared by kind")
     ap.add_argument("--only", default="", help="substring of the kinds to run")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--lines", help="the output stage (SimplifyParams.lines); default the "
-                    "default's")
     args = ap.parse_args()
     kinds = [k for k in KINDS if args.only in k]
-    params = SimplifyParams(lines=args.lines) if args.lines else None
     shares = sum(KINDS[k][1] for k in kinds)
     print(f"{'kind':32s} {'examples':>8s} {'simplified':>10s} {'refused':>8s} {'failed':>6s} "
           f"{'seconds':>8s}")
@@ -65,7 +60,7 @@ def main() -> int:
     for kind in kinds:
         n = max(2, round(args.examples * KINDS[kind][1] / shares))
         t0 = time.perf_counter()
-        outcomes, failure = fuzz_kind(kind, n, args.seed, params)
+        outcomes, failure = fuzz_kind(kind, n, args.seed)
         failed = int(failure is not None)
         if failure:
             failures[kind] = failure

@@ -9,9 +9,10 @@ For every rough sketch of ``../shared/data`` and every file of ``samples/``: one
 the output strokes (points, Bezier control points, width, pressure, style, closed, source
 ids) and of the merge history (kind, cost, primitives) at the default epsilon, and one of
 the strokes replayed with ``result.at`` at 0.8 and 0.5 of it; ``--lines`` picks the
-output stage (the default's unless given). ``--root`` imports ``core``
-from another checkout (a ``git worktree`` of the commit before), so that both trees are
-hashed by this same script and can be run side by side. Only the public API is used.
+output stage of a ``--root`` from before the line stage became the only one (8618027).
+``--root`` imports ``core`` from another checkout (a ``git worktree`` of the commit
+before), so that both trees are hashed by this same script and can be run side by
+side. Only the public API is used.
 """
 
 from __future__ import annotations
@@ -91,7 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--compare", nargs=2, metavar=("A", "B"))
     ap.add_argument("--lines", choices=("complex", "pen"), default=None,
-                    help="the output stage (default: the default's)")
+                    help="the output stage of a --root from before the line stage became "
+                    "the only one (default: the checkout's own)")
     args = ap.parse_args(argv)
     if args.compare:
         a, b = (json.loads(Path(p).read_text()) for p in args.compare)

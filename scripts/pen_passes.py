@@ -111,7 +111,7 @@ def main() -> int:
                     f"(of {', '.join(name for name, _ in PASSES)})")
     ap.add_argument("--zoom", default=None, help="X0,Y0,X1,Y1 in the sketch's coordinates")
     args = ap.parse_args()
-    options = {"lines": "pen", "skip": tuple(s for s in args.skip.split(",") if s)}
+    options = {"skip": tuple(s for s in args.skip.split(",") if s)}
     if args.epsilon is not None:
         options["epsilon"] = args.epsilon
     zoom = tuple(float(v) for v in args.zoom.split(",")) if args.zoom else None

@@ -275,7 +275,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--svg", help="write each output SVG into this folder")
     ap.add_argument("--data", type=Path, default=DATA,
                     help="folder of sketches to score, laid out as ../shared/data")
-    ap.add_argument("--lines", help="the output stage (SimplifyParams.lines); default the "
+    ap.add_argument("--lines", help="the output stage of a --root from before the line "
+                    "stage became the only one (8618027: 'pen' or 'complex'); default the "
                     "checkout's own")
     ap.add_argument("--skip", default="", help="pen passes to leave out, comma-separated "
                     "(an ablation)")

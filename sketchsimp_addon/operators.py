@@ -171,6 +171,5 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
             layout.prop(self, name)
         box = layout.box()
         box.label(text="Advanced")
-        for name in ("lines", "alpha", "samples", "angle", "beta", "join_angle",
-                     "corner_angle", "smoothing"):
+        for name in ("alpha", "samples", "angle", "corner_angle", "smoothing"):
             box.prop(self, name)

@@ -6,7 +6,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from ..core import EPSILON_SOFT_MAX, SimplifyParams
 
-__all__ = ["DEFAULTS", "LAYER_ITEMS", "LINES_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS",
+__all__ = ["DEFAULTS", "LAYER_ITEMS", "OUTPUT_ITEMS", "SCOPE_ITEMS",
            "SimplifyOptions"]
 
 DEFAULTS = SimplifyParams()
@@ -27,13 +27,6 @@ OUTPUT_ITEMS = [
     ("OBJECT", "New Object", "Write the result to a new Grease Pencil object"),
     ("REPLACE", "Replace", "Replace the source strokes in place (undo restores them)"),
 ]
-
-LINES_ITEMS = [
-    ("complex", "From the Complex", "Chain the simplified complex's curves into strokes"),
-    ("pen", "From the Pen", "Fit one line to each group of strokes drawn over one line, "
-     "junctions taken from the fitted lines"),
-]
-
 
 class SimplifyOptions:
     """Annotations mixed into both the operator and the scene settings."""
@@ -77,12 +70,6 @@ class SimplifyOptions:
                          "more is finer and slower")
     angle: FloatProperty(name="Merge Angle", default=DEFAULTS.angle, min=0.0, max=90.0,
                          description="Largest angle, in degrees, between strokes that may merge")
-    beta: FloatProperty(name="Short Edge", default=DEFAULTS.beta, min=0.001, max=1.0,
-                        precision=3, description="Edges shorter than this share of their "
-                        "region's outline are smoothed away at junctions (beta)")
-    join_angle: FloatProperty(name="Join Angle", default=DEFAULTS.join_angle, min=0.0,
-                              max=80.0, description="Largest turn, in degrees, where two "
-                              "lines meeting at a junction continue as one stroke")
     corner_angle: FloatProperty(name="Corner Angle", default=DEFAULTS.corner_angle, min=5.0,
                                 max=180.0, description="Turns sharper than this, in degrees, "
                                 "stay sharp corners of the output curves")
@@ -90,13 +77,7 @@ class SimplifyOptions:
                              description="Smooth each output line between its corners over "
                              "this many bundle widths, so that it shows no steps (0: none)")
 
-    lines: EnumProperty(name="Lines", items=LINES_ITEMS, default=DEFAULTS.lines,
-                        description="How the clean lines are made from the simplified "
-                        "drawing")
-
     def params(self) -> SimplifyParams:
         return SimplifyParams(epsilon=self.epsilon, alpha=self.alpha or "auto",
                               samples=self.samples - self.samples % 2, angle=self.angle,
-                              beta=self.beta, join_angle=self.join_angle,
-                              corner_angle=self.corner_angle, smoothing=self.smoothing,
-                              lines=self.lines)
+                              corner_angle=self.corner_angle, smoothing=self.smoothing)

@@ -10,7 +10,7 @@ from .options import SimplifyOptions
 __all__ = ["OPTION_NAMES", "SKETCHSIMP_PT_panel", "SketchSimpSettings"]
 
 OPTION_NAMES = ("epsilon", "scope", "layers", "output", "hide_source", "stable", "fill_regions",
-                "as_curve", "lines", "alpha", "samples", "angle", "beta", "join_angle",
+                "as_curve", "alpha", "samples", "angle",
                 "corner_angle", "smoothing")
 
 

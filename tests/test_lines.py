@@ -40,7 +40,7 @@ def passes(a, b, n: int = 3, spread: float = 1.5, seed: int = 0, over: float = 0
 
 def pen(strokes: list[np.ndarray], **params) -> list[Stroke]:
     sketch = Sketch([Stroke(p) for p in strokes], CANVAS, CANVAS)
-    return simplify(sketch, SimplifyParams(lines="pen", **params)).strokes
+    return simplify(sketch, SimplifyParams(**params)).strokes
 
 
 def straightness(points: np.ndarray) -> float:
@@ -206,17 +206,17 @@ def test_a_ring_drawn_round_and_on_beside_itself_is_one_stroke(out):
 
 def test_at_epsilon_zero_each_stroke_comes_back_whole():
     sketch = read_sketch(SAMPLES / "house.scap")
-    out = simplify(sketch, SimplifyParams(lines="pen", epsilon=0.0)).strokes
+    out = simplify(sketch, SimplifyParams(epsilon=0.0)).strokes
     assert len(out) == len(sketch.strokes)
 
 
 @pytest.mark.parametrize("sample", ["house", "fish"])
 def test_a_replay_of_the_pen_stage_equals_a_fresh_run(sample):
     sketch = read_sketch(SAMPLES / f"{sample}.scap")
-    full = simplify(sketch, SimplifyParams(lines="pen", epsilon=0.05))
+    full = simplify(sketch, SimplifyParams(epsilon=0.05))
     for eps in (0.005, 0.015):
         replayed = full.at(eps)
-        fresh = simplify(sketch, SimplifyParams(lines="pen", epsilon=eps))
+        fresh = simplify(sketch, SimplifyParams(epsilon=eps))
         assert len(replayed.strokes) == len(fresh.strokes)
         for x, y in zip(replayed.strokes, fresh.strokes):
             np.testing.assert_array_equal(x.bezier, y.bezier)
@@ -224,25 +224,25 @@ def test_a_replay_of_the_pen_stage_equals_a_fresh_run(sample):
 
 def test_every_pass_is_timed_and_drawn_and_an_unknown_one_is_refused():
     sketch = read_sketch(SAMPLES / "house.scap")
-    result = simplify(sketch, SimplifyParams(lines="pen"))
+    result = simplify(sketch, SimplifyParams())
     assert {f"pen.{name}" for name, _ in PASSES} <= set(result.timings)
     seen = []
     result.pen_passes(lambda name, work: seen.append((name, len(work.current_lines()))))
     assert [name for name, _ in seen] == [name for name, _ in PASSES]
     with pytest.raises(SketchError, match="unknown pass"):
-        simplify(sketch, SimplifyParams(lines="pen", skip=("nonsense",)))
+        simplify(sketch, SimplifyParams(skip=("nonsense",)))
     with pytest.raises(SketchError, match="cannot be skipped"):
-        simplify(sketch, SimplifyParams(lines="pen", skip=("pieces",)))
-    with pytest.raises(SketchError, match="lines must be"):
-        SimplifyParams(lines="chains")
+        simplify(sketch, SimplifyParams(skip=("pieces",)))
+    with pytest.raises(TypeError, match="lines"):  # one line stage: nothing to choose
+        SimplifyParams(lines="complex")
 
 
 def test_the_pass_pictures_draw_one_panel_per_pass_in_order(tmp_path):
     from pen_passes import draw
     out = tmp_path / "passes.png"
-    titles = draw(SAMPLES / "house.scap", out, SimplifyParams(lines="pen"))
+    titles = draw(SAMPLES / "house.scap", out, SimplifyParams())
     assert [t.split(":")[0] for t in titles] == [name for name, _ in PASSES]
-    strokes = simplify(read_sketch(SAMPLES / "house.scap"), SimplifyParams(lines="pen")).strokes
+    strokes = simplify(read_sketch(SAMPLES / "house.scap"), SimplifyParams()).strokes
     assert titles[-1] == f"bezier: {len(strokes)} strokes"  # the run's own lines, drawn again
     assert out.stat().st_size > 10_000  # a picture, not an empty canvas
 
@@ -253,7 +253,7 @@ def test_params_with_the_pen_stage_travel_as_plain_data_and_come_back_equal():
 
     from core.params import Tuning
 
-    params = SimplifyParams(lines="pen", skip=("junctions",), tuning=Tuning(snap=0.5))
+    params = SimplifyParams(skip=("junctions",), tuning=Tuning(snap=0.5))
     assert SimplifyParams(**params.as_dict()) == params
     assert SimplifyParams(**json.loads(json.dumps(params.as_dict()))) == params
     with pytest.raises(SketchError, match="unknown tuning"):
@@ -283,9 +283,9 @@ def test_the_pen_stage_is_the_same_to_the_bit_whether_small_queries_are_measured
     from core.arrays import geometry
 
     sketch = read_sketch(SAMPLES / f"{sample}.scap")
-    measured = simplify(sketch, SimplifyParams(lines="pen")).strokes
+    measured = simplify(sketch, SimplifyParams()).strokes
     monkeypatch.setattr(geometry, "BRUTE_PAIRS", 0)
-    treed = simplify(sketch, SimplifyParams(lines="pen")).strokes
+    treed = simplify(sketch, SimplifyParams()).strokes
     assert len(measured) == len(treed)
     for x, y in zip(measured, treed):
         assert x.bezier.tobytes() == y.bezier.tobytes()
@@ -327,7 +327,7 @@ def test_a_stroke_hundreds_of_diagonals_long_far_from_the_drawing_takes_seconds(
     far = np.column_stack([np.linspace(500.0, 2_000.0, 50), np.full(50, 1000.0)])
     started = time.perf_counter()
     result = simplify(Sketch([Stroke(s) for s in small] + [Stroke(far)]),
-                      SimplifyParams(lines="pen"))
+                      SimplifyParams())
     assert time.perf_counter() - started < 60
     assert result.normalisation.scale < 10  # the drawing's frame, not the line's
     assert any(np.ptp(s.points[:, 0]) > 1000 for s in result.strokes)  # the line, whole
@@ -346,6 +346,6 @@ def test_the_join_pass_keeps_close_lines_of_a_product_sketch_whole(name):
     reference = [s.points for s in read_sketch(path.with_name("full_fit.scap")).strokes]
     diagonal = float(np.hypot(sketch.width, sketch.height))
     whole = {skip: whole_lines([s.points for s in simplify(
-        sketch, SimplifyParams(lines="pen", skip=skip)).strokes], reference, diagonal)
+        sketch, SimplifyParams(skip=skip)).strokes], reference, diagonal)
         for skip in ((), ("join",))}
     assert whole[()] >= whole[("join",)] - 0.06

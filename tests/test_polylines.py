@@ -21,7 +21,6 @@ from core.arrays.polylines import (
 )
 from core.curves.attributes import NearestInk
 from core.merge.fourier import curve_descriptors, fourier_descriptors
-from core.output.stroke_graph import end_directions
 
 
 def _alone(points: np.ndarray) -> np.ndarray:
@@ -90,14 +89,6 @@ def _end_direction(points: np.ndarray, reach: float) -> np.ndarray:
     d = points[k] - points[0]
     n = np.hypot(*d)
     return d / n if n > 0 else d
-
-
-@pytest.mark.parametrize("reach", [1e-3, 0.05, 10.0])  # before the second point, within, past
-def test_end_directions_of_many_are_each_ones_own(reach):
-    lines = _polylines(3)
-    together = end_directions(lines, reach)
-    alone = [_end_direction(w, reach) for p in lines for w in (p, p[::-1])]
-    assert together.tobytes() == np.array(alone).tobytes()
 
 
 @pytest.mark.parametrize("spacing", [1e-3, 0.05, 3.0])

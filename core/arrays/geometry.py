@@ -14,9 +14,9 @@ import shapely
 from .polylines import arc_lengths, resample_each
 
 __all__ = [
-    "Crossings", "Projection", "Reached", "Segments", "directions_at", "lines_from",
-    "nearest_on", "polygons_from", "project_on", "ring_is_counter_clockwise",
-    "shoelace_terms", "split_coordinates", "tangents", "tangents_each", "unit_rows",
+    "Crossings", "Projection", "Reached", "Segments", "lines_from", "polygons_from",
+    "project_on", "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates",
+    "tangents", "tangents_each", "unit_rows",
 ]
 
 
@@ -121,32 +121,6 @@ def tangents_each(polylines: list[np.ndarray]) -> np.ndarray:
     out[last[two]] = flat[last[two]] - flat[last[two] - 1]
     out[first[~two]] = 0.0
     return unit_rows(out)
-
-
-def nearest_on(lines, points) -> np.ndarray:
-    """The coordinates (n, 2) of the points of ``lines`` nearest to ``points`` (shapely
-    Points; one line for all, or one each).
-
-    >>> nearest_on(shapely.LineString([(0, 0), (4, 0)]), shapely.points([[1, 2]])).tolist()
-    [[1.0, 0.0]]
-    """
-    return shapely.get_coordinates(shapely.line_interpolate_point(
-        lines, shapely.line_locate_point(lines, points)))
-
-
-def directions_at(lines, points, step: float) -> np.ndarray:
-    """Unit directions (n, 2) of ``lines`` where they come nearest to ``points`` (shapely
-    Points; one line for all, or one each), each from ``step`` before that point along the
-    line to ``step`` after it.
-
-    >>> line = shapely.LineString([(0, 0), (2, 0), (2, 2)])
-    >>> directions_at(line, shapely.points([[1, 0.5], [3, 1]]), 0.5).round(3).tolist()
-    [[1.0, 0.0], [0.0, 1.0]]
-    """
-    at = shapely.line_locate_point(lines, points)
-    ahead = shapely.get_coordinates(shapely.line_interpolate_point(lines, at + step))
-    behind = shapely.get_coordinates(shapely.line_interpolate_point(lines, at - step))
-    return unit_rows(ahead - behind)
 
 
 #: a nearest query of at most this many (point, segment) pairs is answered by measuring

@@ -22,7 +22,7 @@ from pathlib import Path
 from ..io.files import read_sketch, write_sketch
 from ..lines import PASSES
 from ..parallel import default_jobs
-from ..params import LINE_STAGES, SimplifyParams
+from ..params import SimplifyParams
 from ..simplify import simplify
 from ..sketch import SketchError
 from .batch import batch
@@ -51,13 +51,13 @@ def parser() -> argparse.ArgumentParser:
                           "'auto' (default: measured from the ink, 0.012 to 0.015, up to "
                           "0.03 for a sparse drawing whose result keeps the ink)")
     one.add_argument("--fill-gap", type=_auto_or_number, default=d.fill_gap,
-                     help="widest ink-free band inside a bundle drawn wider than alpha, as a "
-                          "fraction of the drawing's diagonal; 0 merges no such bundle "
-                          "and cuts no doubled end beyond 0.75 alpha "
+                     help="widest ink-free band inside one bundle, as a fraction of the "
+                          "drawing's diagonal: two lines with no wider band between their "
+                          "inks may be one line drawn twice; 0 joins no such lines "
                           "(default 'auto': the ink's spacing)")
     one.add_argument("--samples", type=int, default=d.samples,
                      help="Fourier descriptor samples N (default %(default)s)")
-    _stage_options(one, d)
+    _skip_option(one)
     one.add_argument("--stats", help="write counts and timings to this JSON file")
     one.set_defaults(run=run_simplify)
 
@@ -81,24 +81,20 @@ def parser() -> argparse.ArgumentParser:
                       help="how far to simplify (default %(default)s)")
     many.add_argument("--scap", action="store_true", help="write .scap instead of .svg")
     many.add_argument("--summary", type=Path, help="write counts and seconds to this JSON file")
-    _stage_options(many, d)
+    _skip_option(many)
     many.set_defaults(run=lambda args: batch(
-        args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon, lines=args.lines,
-                                                  skip=tuple(args.skip)), args.jobs,
+        args.in_dir, args.out_dir, SimplifyParams(epsilon=args.epsilon, skip=tuple(args.skip)),
+        args.jobs,
         ".scap" if args.scap else ".svg", args.summary, args.scheduler, args.resume,
         args.connect_timeout))
     return top
 
 
-def _stage_options(command: argparse.ArgumentParser, d: SimplifyParams) -> None:
-    """--lines and --skip, for simplify and batch."""
-    command.add_argument("--lines", choices=LINE_STAGES, default=d.lines,
-                         help="the output stage: 'complex' chains the simplified complex's "
-                              "curves, 'pen' fits one line to each group of strokes that "
-                              "draw one line (default %(default)s)")
+def _skip_option(command: argparse.ArgumentParser) -> None:
+    """--skip, for simplify and batch."""
     command.add_argument("--skip", action="append", default=[], metavar="PASS",
                          choices=[name for name, _ in PASSES],
-                         help="leave out this pass of the pen stage (for ablations; "
+                         help="leave out this pass of the line stage (for ablations; "
                               "repeatable): " + ", ".join(name for name, _ in PASSES))
 
 
@@ -117,7 +113,7 @@ def run_simplify(args: argparse.Namespace) -> int:
     if out.suffix.lower() not in (".svg", ".scap"):
         raise SketchError(f"{out}: unknown output format {out.suffix!r} (use .svg or .scap)")
     params = SimplifyParams(epsilon=args.epsilon, alpha=args.alpha, samples=args.samples,
-                            fill_gap=args.fill_gap, lines=args.lines, skip=tuple(args.skip))
+                            fill_gap=args.fill_gap, skip=tuple(args.skip))
     result = simplify(read_sketch(args.input), params)
     write_sketch(result.to_sketch(), out)
     before, after = result.counts["before"], result.counts["after"]

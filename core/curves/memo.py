@@ -1,6 +1,6 @@
-"""What the output stage keeps between runs of one result: a slider replays the merge
-history at other epsilons, and the states it passes through share most edges, most pairs
-of edges and most output strokes with each other.
+"""What the line stage keeps between runs of one result: a slider replays the merge
+history at other epsilons, and the states it passes through share most output lines with
+each other.
 
 Every store is keyed by content (a polyline's bytes, with what else the value depends on)
 and holds a value that depends on its key alone, so a hit and a miss give the same result
@@ -24,11 +24,8 @@ __all__ = ["MEMO_ENTRIES", "LruStore", "StrokeMemo", "shape_key"]
 K = TypeVar("K", bound=Hashable)
 V = TypeVar("V")
 
-#: entries each store keeps. A fresh run and eight replays of the largest dev sketch
-#: (Professional6/shampoo_bottle) put 93,000 entries in the busiest store (the bi-edge
-#: pass's pair judgments; 27,000 in the next) at a peak of 334 MB for the whole process.
-#: Capped at 50,000, those replays took 5% longer and the peak was 7 MB lower: the cap is
-#: there for sessions far longer than that, not to trim this one.
+#: entries each store keeps: a bound for slider sessions far longer than a run and a few
+#: replays (docs/decisions.md, "memo entries").
 MEMO_ENTRIES = 200_000
 
 
@@ -75,19 +72,9 @@ def shape_key(points: np.ndarray, closed: bool = False) -> bytes:
 
 @dataclass
 class StrokeMemo:
-    """The output stage's stores, shared by a result and every replay of it."""
+    """The line stage's stores, shared by a result and every replay of it."""
 
     #: Bezier fit of a resampled output stroke (shape_key of it before smoothing; the
     #: smoothing depends on it and the result's params alone): control points and the
     #: polyline sampled from them
     fits: LruStore[bytes, tuple[np.ndarray, np.ndarray]] = field(default_factory=LruStore)
-    #: an edge sampled for pairing (its bytes): :class:`core.merge.curve_merge.SampledCurve`
-    curves: LruStore = field(default_factory=LruStore)
-    #: an edge's Fourier descriptor as a slender ring (its bytes)
-    descriptors: LruStore[bytes, np.ndarray] = field(default_factory=LruStore)
-    #: a side-by-side pair (points and weights of both): the merged edge and its
-    #: descriptor, or None when they do not pair
-    pairs: LruStore[tuple, tuple[np.ndarray, np.ndarray] | None] = field(
-        default_factory=LruStore)
-    #: where a chain (shape_key) is cut at hairpin turns
-    tips: LruStore[bytes, list[int]] = field(default_factory=LruStore)

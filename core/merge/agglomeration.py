@@ -15,8 +15,8 @@ between two patches, a free curve) must lie within ``GUARD_REACH`` d_eps of what
 a curve-curve merge's curve within d_eps (d_eps = alpha * D) of both curves it replaces.
 The Fourier distance is blind to scale, so without this guard tiny faces would merge across
 real lines and erase them. A patch merge keeps one side of what it removes, not their
-middle: the sides of a bundle farther apart than a quarter of d_eps are left to the output
-stage, which merges them onto their middle (:mod:`core.output.bi_edges`).
+middle: the line stage fits one line to the ink the merges grouped, wherever the kept
+side lies (:mod:`core.lines`).
 
 The queue and its order (cost, then kind at equal cost, then push order) are
 :mod:`core.merge.queue`'s. Merged primitives get new ids, so an entry whose primitive has
