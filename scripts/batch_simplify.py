@@ -163,20 +163,21 @@ def run_options(args, frames_mode: str) -> SimpleNamespace:
                            as_curve=False, fill_regions=args.fill_regions, stable=args.stable)
 
 
-def send_drawings(blend: Path | None, args, run, cluster, frames_mode, frame_range) -> int:
-    """Read every drawing of ``blend`` and send it to the cluster; how many were sent."""
+def send_drawings(blend: Path | None, args, addon, cluster, frames_mode, frame_range) -> int:
+    """Read every drawing of ``blend`` and send it to the cluster; how many were sent
+    (``addon``: the add-on package, its modules loaded)."""
     sent = 0
     for ob in open_objects(blend, args):
-        gathered = run.gather_drawings(ob, run_options(args, frames_mode),
-                                       bpy.context.scene.frame_current, run.RunReport(),
-                                       frame_range)
+        gathered = addon.read.gather_drawings(ob, run_options(args, frames_mode),
+                                             bpy.context.scene.frame_current,
+                                             addon.records.RunReport(), frame_range)
         for p in gathered.prepared:
             cluster.submit(p.sketch)
             sent += 1
     return sent
 
 
-def process(blend: Path | None, args, params, run, frames_mode, frame_range,
+def process(blend: Path | None, args, params, addon, frames_mode, frame_range,
             engine=None, pool=None) -> dict:
     objects = open_objects(blend, args)
     scene = bpy.context.scene
@@ -184,14 +185,14 @@ def process(blend: Path | None, args, params, run, frames_mode, frame_range,
            "skipped": [], "objects": {}}
     for ob in objects:
         options = run_options(args, frames_mode)
-        report, results = run.simplify_object(ob, options, params, scene.frame_current,
-                                              jobs=args.jobs, frame_range=frame_range,
-                                              engine=engine, pool=pool)
+        report, results = addon.run.simplify_object(ob, options, params, scene.frame_current,
+                                                    jobs=args.jobs, frame_range=frame_range,
+                                                    engine=engine, pool=pool)
         for r in results:
             frames = ",".join(str(f.frame_number) for f in r.frames)
             print(f"  {ob.name} / {r.layer.name} frame {frames}: {len(r.chosen)} -> "
                   f"{len(r.new.knots)} strokes", flush=True)
-        run.write_results(ob, options, results, bpy.context)
+        addon.write.write_results(ob, options, results, bpy.context)
         row["objects"][ob.name] = {"drawings": report.drawings, "strokes_in": report.strokes_in,
                                    "strokes_out": report.strokes_out}
         for key in ("drawings", "strokes_in", "strokes_out"):
@@ -206,9 +207,10 @@ def main() -> int:
     from extension import load_extension
 
     load_extension()  # the repository as the extension package, nothing registered
+    import sketchsimp.sketchsimp_addon as addon
     from sketchsimp.core import SimplifyParams, SketchError
     from sketchsimp.core.parallel import default_jobs, local_pool
-    from sketchsimp.sketchsimp_addon import run
+    from sketchsimp.sketchsimp_addon import read, records, run, write  # noqa: F401 (loaded)
 
     t0 = time.perf_counter()
     cluster = None
@@ -248,7 +250,7 @@ def main() -> int:
             cluster = ClusterRun(args.scheduler, params, regions=args.fill_regions)
             for blend in list(blends):  # every file in flight before the first is written
                 try:
-                    sent = send_drawings(blend, args, run, cluster, frames_mode, frame_range)
+                    sent = send_drawings(blend, args, addon, cluster, frames_mode, frame_range)
                 except FileError as exc:
                     fail(blend, str(exc))
                     blends.remove(blend)
@@ -265,7 +267,7 @@ def main() -> int:
         for blend in blends:
             print(f"{blend or bpy.data.filepath}:", flush=True)
             try:
-                row = process(blend, args, params, run, frames_mode, frame_range, engine,
+                row = process(blend, args, params, addon, frames_mode, frame_range, engine,
                               pool)
                 source = Path(bpy.data.filepath)
                 target = output_path(source, args, several)

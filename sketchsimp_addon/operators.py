@@ -1,4 +1,5 @@
-"""The Simplify Sketch operator: the Blender-facing shell around :mod:`.run`."""
+"""The Simplify Sketch operator: the Blender-facing shell around :mod:`.run` (scheduling)
+and :mod:`.write`."""
 
 from __future__ import annotations
 
@@ -9,13 +10,8 @@ import bpy
 
 from ..core import SketchError
 from .options import SimplifyOptions
-from .run import (
-    StepwiseRun,
-    simplify_curve_object,
-    simplify_object,
-    write_curve_result,
-    write_results,
-)
+from .run import StepwiseRun, simplify_curve_object, simplify_object
+from .write import write_curve_result, write_results
 
 __all__ = ["MODAL_FROM", "SKETCHSIMP_OT_simplify", "scene_range"]
 
