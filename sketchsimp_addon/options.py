@@ -56,8 +56,9 @@ class SimplifyOptions:
         "under the lines (with the object's first fill material, or a new one); holes stay "
         "holes. Not for As Curve Object")
     as_curve: BoolProperty(name="As Curve Object", default=False,
-                           description="Write the result as a Bezier curve object (one per "
-                           "layer, from the first drawing simplified) instead of strokes")
+                           description="Write the result as Bezier curve objects instead of "
+                           "strokes: one per layer, or for a layer of several keyframes one "
+                           "per drawing, each shown only on its drawing's frames")
     alpha: FloatProperty(
         name="Bundle Width", default=0.0, min=0.0, max=0.2, precision=3,
         description="Width of a bundle of rough strokes as a fraction of the drawing's size "

@@ -11,6 +11,7 @@ from .gp_io import grease_pencil_data, read_drawing, write_strokes
 from .records import DrawingResult
 
 __all__ = [
+    "key_visibility", "visible_spans", "write_curves",
     "earlier_result", "FILL_MATERIAL", "fill_materials", "HOLE_MATERIAL", "keep_in_view",
     "layer_to_world", "LOOK", "match_parent", "new_layer_like", "place_above", "result_name",
     "write_curve_result", "write_fills", "write_frames", "write_results",
@@ -111,33 +112,8 @@ def place_above(gp, layer, below) -> None:
 
 def write_results(obj, options, results: list[DrawingResult], context) -> object:
     """Write the results where ``options.output`` says; returns the object written to."""
-    if options.as_curve:  # one curve object a layer, placed like the layer's strokes
-        target, done = None, set()
-        for r in results:
-            if r.layer.name in done:
-                continue  # a curve object holds one drawing of a layer: the first
-            done.add(r.layer.name)
-            target = new_curve_object(f"{obj.name} {r.layer.name} simplified", obj,
-                                      context.collection)
-            # parented as the layer's strokes move: with the layer's parent, or the object
-            # (and through it the object's own parents), placed where the ink is now
-            parent = r.layer.parent if r.layer.parent is not None else obj
-            world = layer_to_world(obj, r.layer)
-            target.parent = parent
-            target.matrix_parent_inverse = parent.matrix_world.inverted()
-            target.matrix_basis = world.copy()
-            write_bezier_splines(target.data, r.new.knots, r.new.handles_left,
-                                 r.new.handles_right, list(r.new.cyclic), r.new.radius)
-            slots = sorted(set(r.new.material_index.tolist())) or [0]
-            for slot in slots:
-                source = obj.data.materials[slot] if slot < len(obj.data.materials) else None
-                target.data.materials.append(ink_material(source))
-            index = {slot: k for k, slot in enumerate(slots)}
-            for spline, slot in zip(target.data.splines, r.new.material_index.tolist()):
-                spline.material_index = index[slot]
-            if options.hide_source and options.scope != "SELECTED":
-                r.layer.hide = True
-        return target
+    if options.as_curve:
+        return write_curves(obj, options, results, context)
     sources = {r.layer.name: r.layer for r in results}
     if options.output == "REPLACE":
         for name, below in write_fills(obj.data, results).items():  # under the source
@@ -184,6 +160,113 @@ def write_results(obj, options, results: list[DrawingResult], context) -> object
         elif name in made:  # a new object's layers stack as made: the lines go above
             place_above(gp, made[name], below)
     return target
+
+
+def visible_spans(frames: list[int], keys: list[int]) -> list[tuple[int, int | None]]:
+    """The frames a drawing shows at, as spans ``(first, end)``: from each of its keyframes
+    ``frames`` to the layer's next keyframe of ``keys`` (its keyframe numbers, any order),
+    ``end`` excluded (None: on to the end of time), spans that meet merged into one.
+
+    >>> visible_spans([1, 9], [1, 5, 9, 13])
+    [(1, 5), (9, 13)]
+    >>> visible_spans([5, 9], [1, 5, 9, 13])  # two keyframes in a row share the drawing
+    [(5, 13)]
+    >>> visible_spans([13], [1, 5, 9, 13])
+    [(13, None)]
+    """
+    keys = sorted(set(keys))
+    spans: list[tuple[int, int | None]] = []
+    for frame in sorted(set(frames)):
+        later = [k for k in keys if k > frame]
+        end = later[0] if later else None
+        if spans and spans[-1][1] == frame:
+            spans[-1] = (spans[-1][0], end)
+        else:
+            spans.append((frame, end))
+    return spans
+
+
+def key_visibility(ob, spans: list[tuple[int, int | None]], now: int) -> None:
+    """Key ``ob`` shown (in the viewport and in renders) over ``spans`` and hidden
+    elsewhere, and set it as it is at frame ``now``: booleans keyed hold their value to
+    the next key."""
+    keys: dict[int, bool] = {}
+    for first, end in spans:
+        keys.setdefault(first - 1, True)  # hidden before, unless another span ends there
+        keys[first] = False
+        if end is not None:
+            keys[end] = True
+    for frame, hidden in sorted(keys.items()):
+        for prop in ("hide_viewport", "hide_render"):
+            setattr(ob, prop, hidden)
+            ob.keyframe_insert(prop, frame=frame)
+    shown = any(first <= now and (end is None or now < end) for first, end in spans)
+    ob.hide_viewport = ob.hide_render = not shown
+
+
+def write_curves(obj, options, results: list[DrawingResult], context):
+    """As Curve Object: a Bezier curve object for each drawing written, placed and parented
+    as its layer's strokes are, with a material of the ink's colour. A layer with one
+    keyframe gets one object, named "<object> <layer> simplified"; a layer with several (a
+    shot) gets one object per drawing in a collection of that name, each keyed visible over
+    the frames its drawing shows at (:func:`visible_spans`), so that the curves play and
+    render as the drawing did. Hiding the source, the keyframes not simplified (outside the
+    frame range, or not reached before a cancel) are written as drawn too, so that no
+    frame goes blank; the source is hidden once every drawing of its layer is written.
+    Returns the last object written (None when none)."""
+    hide = options.hide_source and options.scope != "SELECTED"
+    by_layer: dict[int, list[DrawingResult]] = {}
+    for r in results:
+        by_layer.setdefault(r.layer.as_pointer(), []).append(r)
+    scene = context.scene
+    target = None
+    for rs in by_layer.values():
+        layer = rs[0].layer
+        keys = [f.frame_number for f in layer.frames]
+        shown = [(r.new, [f.frame_number for f in r.frames]) for r in rs]
+        if hide:
+            done = {n for _, numbers in shown for n in numbers}
+            shown += [(NewStrokes.as_drawn(read_drawing(f.drawing)), [f.frame_number])
+                      for f in layer.frames if f.frame_number not in done]
+        shown = [(new, numbers) for new, numbers in shown if new.knots]  # empty: nothing
+        name = f"{obj.name} {layer.name} simplified"
+        shot = len(keys) > 1
+        collection = context.collection
+        if shot:
+            collection = bpy.data.collections.new(name)
+            context.collection.children.link(collection)
+        for new, numbers in sorted(shown, key=lambda item: min(item[1])):
+            target = new_curve_object(f"{name} {min(numbers):04d}" if shot else name, obj,
+                                      collection)
+            _place_like_layer(target, obj, layer)
+            _write_curve(target, obj, new)
+            if shot:
+                key_visibility(target, visible_spans(numbers, keys), scene.frame_current)
+        if hide:
+            layer.hide = True
+    return target
+
+
+def _place_like_layer(target, obj, layer) -> None:
+    """Parent a curve object as the layer's strokes move: with the layer's parent, or the
+    object (and through it the object's own parents), placed where the ink is now."""
+    parent = layer.parent if layer.parent is not None else obj
+    target.parent = parent
+    target.matrix_parent_inverse = parent.matrix_world.inverted()
+    target.matrix_basis = layer_to_world(obj, layer).copy()
+
+
+def _write_curve(target, obj, new: NewStrokes) -> None:
+    """The strokes as Bezier splines, each with a surface material of its ink's colour."""
+    write_bezier_splines(target.data, new.knots, new.handles_left, new.handles_right,
+                         list(new.cyclic), new.radius)
+    slots = sorted(set(new.material_index.tolist())) or [0]
+    for slot in slots:
+        source = obj.data.materials[slot] if slot < len(obj.data.materials) else None
+        target.data.materials.append(ink_material(source))
+    index = {slot: k for k, slot in enumerate(slots)}
+    for spline, slot in zip(target.data.splines, new.material_index.tolist()):
+        spline.material_index = index[slot]
 
 
 def result_name(layer, suffix: str) -> str:

@@ -726,6 +726,66 @@ def test_grease_pencil_to_a_bezier_curve_object_that_renders_where_the_ink_is(pa
     np.testing.assert_allclose(curve_points_world(out), pts + (0.0, 0.0, 2.5), atol=1e-5)
 
 
+def shown_curves(prefix: str) -> list:
+    """The curve objects whose name starts with ``prefix`` that the viewport and a render
+    show now."""
+    return [o for o in bpy.data.objects if o.type == "CURVE" and o.name.startswith(prefix)
+            and not o.hide_viewport and not o.hide_render]
+
+
+@pytest.mark.parametrize("scope", ["ALL", "RANGE"])
+def test_a_shot_as_curve_objects_plays_each_drawing_on_its_own_frames(scope):
+    """Four keyframes (one drawing shared by frames 20 and 25) to curve objects: one curve
+    object per drawing, and scrubbed frame by frame the shot shows, from each keyframe to
+    the next, the one curve object of the drawing the source shows there (nothing before
+    the first keyframe), in the viewport and in renders. With a frame range (12 to 22) the
+    keyframes outside it are written as drawn, so that no frame goes blank with the source
+    hidden; the source is hidden."""
+    ob = make_object({1: "house", 10: "cup", 20: "fish", 30: "house"})
+    layer = ob.data.layers["Lines"]
+    layer.frames.copy(20, 25, instance_drawing=True)
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end, scene.use_preview_range = 12, 22, False
+    try:
+        assert bpy.ops.sketchsimp.simplify(scope=scope, as_curve=True) == {"FINISHED"}
+        prefix = "Sketch Lines simplified "
+        made = sorted(o.name for o in bpy.data.objects if o.name.startswith(prefix))
+        # with a range, 25 (outside it) is a keyframe as drawn, as on a result layer
+        objects = (1, 10, 20, 30) if scope == "ALL" else (1, 10, 20, 25, 30)
+        assert made == [prefix + f"{n:04d}" for n in objects]
+        assert layer.hide
+        drawn = {f.frame_number: strokes_of(f.drawing) for f in layer.frames}
+        for frame in range(-2, 40):
+            scene.frame_set(frame)
+            shown = shown_curves(prefix)
+            source = layer.get_frame_at(frame)
+            if source is None:
+                assert shown == [], frame
+                continue
+            assert len(shown) == 1, (frame, [o.name for o in shown])
+            first = max(n for n in objects if n <= frame)
+            assert shown[0].name == prefix + f"{first:04d}", frame
+        # each object draws its own drawing: simplified within the scope, as drawn outside
+        simplified = (1, 10, 20, 30) if scope == "ALL" else (10, 20)
+        for n in objects:
+            splines = len(bpy.data.objects[prefix + f"{n:04d}"].data.splines)
+            if n in simplified:
+                assert splines < len(drawn[n])
+            else:
+                assert splines == len(drawn[n])
+    finally:
+        scene.frame_start, scene.frame_end = 1, 250
+        scene.frame_set(1)
+
+
+def test_a_single_drawing_as_a_curve_object_is_one_object_always_shown():
+    ob = make_object({1: "house"})
+    assert bpy.ops.sketchsimp.simplify(as_curve=True) == {"FINISHED"}
+    out = bpy.data.objects["Sketch Lines simplified"]
+    assert out.animation_data is None and not out.hide_viewport
+    assert ob.data.layers["Lines"].hide
+
+
 def test_layers_in_hidden_or_locked_groups_are_left_alone():
     ob = make_object({1: "house"})
     layer = ob.data.layers["Lines"]
