@@ -111,6 +111,9 @@ class SimplifyResult:
     counts: dict[str, dict[str, int]]
     timings: dict[str, float]
     stats: AgglomerationStats | None = None
+    #: for each stroke of :attr:`cleaned`, the output stroke that draws most of it (-1:
+    #: none): the grouping the lines made, to measure against labels
+    groups: np.ndarray | None = None
     _input: Sketch | None = field(default=None, repr=False)
     _ink: NearestInk | None = field(default=None, repr=False)
     _memo: StrokeMemo = field(default_factory=StrokeMemo, repr=False)  # shared by .at()
@@ -129,6 +132,12 @@ class SimplifyResult:
         the merge loop ran on to."""
         return self.params.epsilon if self._covers is None else max(self._covers,
                                                                     self.params.epsilon)
+
+    @property
+    def cleaned(self) -> Sketch:
+        """The input as simplified: cleaned of non-finite points, duplicates and strokes
+        of one point, in the input's coordinates (each stroke keeps its ids)."""
+        return self._input
 
     @property
     def bundle_width(self) -> float:
@@ -228,7 +237,7 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
         "after": _counts(nodes_after, state.num_curves, state.num_patches, len(strokes)),
     }
     return SimplifyResult(strokes, params, cx, state, history, norm, cleaning, counts, timings,
-                          stats, sketch, ink, memo)
+                          stats, pen.work.groups, sketch, ink, memo)
 
 
 def simplify(sketch: Sketch, params: SimplifyParams | None = None,

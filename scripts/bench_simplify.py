@@ -34,15 +34,19 @@ sys.path.insert(0, str(ROOT / "scripts"))
 from bench_complex import rough_files, sketch_name  # noqa: E402
 from metrics import (  # noqa: E402
     chamfer,
+    close_parallels_whole,
     cluster_reference,
     coverage,
     doubled,
     doubled_on_reference,
     fidelity,
+    hooks,
     moved,
+    pair_precision_recall,
     precision_recall_f,
     too_wide,
     whole_lines,
+    wobble,
 )
 
 from core import read_sketch  # noqa: E402
@@ -132,7 +136,7 @@ def diagonal(sketch) -> float:
     return float(np.hypot(*(pts.max(axis=0) - pts.min(axis=0))))
 
 
-def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
+def measure(path: Path, sketch, out: list[np.ndarray], groups=None) -> dict:
     """The quality measures of one output (see scripts/metrics.py), distances against the
     canvas diagonal D:
 
@@ -154,7 +158,11 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
     the decision issue 32 asks for: whole_lines_twins (a reference curve lying along
     another, a line drawn twice and fitted twice, whole where that one is) and
     doubled_ref_clear (only along the reference away from other reference curves, where
-    the floor is 0).
+    the floor is 0). The shape of the lines: wobble (turning per length against the
+    reference's), hooks (the share of ends turning back), close_parallels (of the
+    reference curves within 1.3% of D of another, the share whole). With ``groups`` (for
+    each stroke of ``sketch``, the output stroke that draws most of it), the grouping
+    against the labels: group_precision and group_recall over pairs of strokes.
     """
     n_intended, reference = intended_curves(path, sketch)
     diag = diagonal(sketch)
@@ -180,7 +188,12 @@ def measure(path: Path, sketch, out: list[np.ndarray]) -> dict:
             "doubled_ref": doubled_on_reference(out, ref, diag),
             "doubled_ref_clear": doubled_on_reference(out, ref, diag, clear=True),
             "doubled_ref_floor": doubled_on_reference(moved(ref, 0.001 * diag), ref, diag),
-            "chamfer_px": chamfer(out, ref)}
+            "chamfer_px": chamfer(out, ref),
+            "wobble": wobble(out, ref, diag), "hooks": hooks(out, diag),
+            "close_parallels": close_parallels_whole(out, ref, diag)}
+    if groups is not None:
+        row["group_precision"], row["group_recall"] = pair_precision_recall(
+            np.asarray(groups), np.asarray(clusters))
     return row
 
 

@@ -32,7 +32,13 @@ sampled along them every ``spacing`` units, so that long segments count by their
   scoring only;
 * too_wide(ink, clusters, diagonal): the share of the input ink that no single line can
   keep within 2% of the diagonal (its intended curve drawn wider than 4% across): where a
-  sketch is mostly such ink, ink kept and no doubled lines cannot both hold.
+  sketch is mostly such ink, ink kept and no doubled lines cannot both hold;
+* pair_precision_recall(groups, labels): the grouping of strokes against their labels,
+  over pairs of strokes (a grouping error told apart from a fitting error);
+* wobble(output, reference, diagonal): turning per length against the reference's, at 1%
+  of the diagonal; hooks(output, diagonal): the share of ends that turn back more than 90
+  degrees in their last 1%; close_parallels_whole(output, reference, diagonal): of the
+  reference curves within 1.3% of another along half their length, the share whole.
 """
 
 from __future__ import annotations
@@ -41,9 +47,10 @@ import numpy as np
 import shapely
 
 __all__ = [
-    "changed", "chamfer", "cluster_reference", "coverage", "doubled", "doubled_on_reference",
-    "doubled_samples", "fidelity", "moved", "nearest_distances", "precision_recall_f",
-    "sample_points", "too_wide", "whole_lines",
+    "changed", "chamfer", "close_parallels_whole", "cluster_reference", "coverage", "doubled",
+    "doubled_on_reference", "doubled_samples", "fidelity", "hooks", "moved",
+    "nearest_distances", "pair_precision_recall", "precision_recall_f", "sample_points",
+    "too_wide", "turning", "whole_lines", "wobble",
 ]
 
 
@@ -414,3 +421,140 @@ def cluster_reference(ink: list[np.ndarray], clusters: list[int], diagonal: floa
             med = np.convolve(np.pad(med, 1, mode="edge"), np.ones(3) / 3, mode="valid")
         out.append(axis + normal * med[:, None])
     return out
+
+
+def pair_precision_recall(groups: np.ndarray, labels: np.ndarray) -> tuple[float, float]:
+    """How well a grouping of strokes matches their labels, over pairs of strokes: the
+    share of the pairs put in one group that share a label (precision) and of the pairs
+    that share a label put in one group (recall). A stroke in group -1 is in none (it
+    pairs with nothing). Precision lost is distinct lines drawn as one; recall lost is
+    one line drawn as several. Counted from the table of group against label, never pair
+    by pair. Both are 1.0 where there is no pair to judge.
+
+    >>> pair_precision_recall(np.array([0, 0, 1, 1]), np.array([5, 5, 5, 6]))
+    (0.5, 0.3333333333333333)
+    >>> pair_precision_recall(np.array([0, 1, -1]), np.array([5, 5, 5]))
+    (1.0, 0.0)
+    """
+    groups, labels = np.asarray(groups), np.asarray(labels)
+    grouped = groups >= 0
+
+    def pairs(counts: np.ndarray) -> float:
+        return float((counts * (counts - 1) / 2).sum())
+
+    _, g = np.unique(groups[grouped], return_inverse=True)
+    _, lab = np.unique(labels, return_inverse=True)
+    together = pairs(np.bincount(g)) if len(g) else 0.0
+    same = pairs(np.bincount(lab))
+    cell = g.astype(np.int64) * (lab.max(initial=0) + 1) + lab[grouped]
+    both = pairs(np.unique(cell, return_counts=True)[1]) if len(cell) else 0.0
+    return (both / together if together else 1.0, both / same if same else 1.0)
+
+
+def turning(polylines: list[np.ndarray], spacing: float) -> float:
+    """Total absolute turning (radians) per unit length of polylines resampled every
+    ``spacing``: how much a drawing wanders. Each line's first and last samples turn no
+    more than its course does, so a corner counts once, a wiggle as often as it goes.
+
+    >>> t = np.linspace(0, 10, 11)[:, None]
+    >>> turning([np.hstack([t, 0 * t])], 1.0)
+    0.0
+    >>> round(turning([np.hstack([t, 0.3 * np.sin(3 * t)])], 1.0), 2)  # a wiggly line
+    0.39
+    """
+    total, length = 0.0, 0.0
+    for p in polylines:
+        if len(p) < 2:
+            continue
+        line = shapely.LineString(p)
+        if line.length < 2 * spacing:
+            continue
+        pts = shapely.get_coordinates(shapely.line_interpolate_point(
+            line, np.linspace(0, line.length, int(line.length / spacing) + 1)))
+        d = np.diff(pts, axis=0)
+        heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+        total += float(np.abs(np.diff(heading)).sum())
+        length += line.length
+    return total / length if length else 0.0
+
+
+def wobble(output: list[np.ndarray], reference: list[np.ndarray], diagonal: float) -> float:
+    """The output's turning per length against the reference's, both resampled every 1%
+    of the diagonal: 1.0 turns as the intended curves do, more is wavier.
+
+    >>> t = np.linspace(0, 100, 101)[:, None]
+    >>> arc = [np.hstack([t, 0.002 * (t - 50) ** 2])]
+    >>> wobble(arc, arc, 200.0)
+    1.0
+    >>> wobble([arc[0] + np.hstack([0 * t, np.sin(t)])], arc, 200.0) > 2
+    True
+    """
+    ref = turning(reference, 0.01 * diagonal)
+    return turning(output, 0.01 * diagonal) / ref if ref > 0 else float("nan")
+
+
+def hooks(output: list[np.ndarray], diagonal: float, reach: float = 0.01,
+          angle: float = 90.0) -> float:
+    """The share of open output lines' ends that hook back: turn more than ``angle``
+    degrees within their last ``reach`` of the diagonal (a pen's flick kept as a hook).
+
+    >>> t = np.linspace(0, 100, 101)[:, None]
+    >>> line = np.hstack([t, 0 * t])
+    >>> hooks([line], 500.0)
+    0.0
+    >>> hooked = np.vstack([line, [[100.0, 2.0], [98.0, 3.0]]])  # turns back at its end
+    >>> hooks([hooked], 500.0)
+    0.5
+    """
+    tips = 0
+    hooked = 0
+    step = reach * diagonal / 4
+    for p in output:
+        if len(p) < 3 or np.allclose(p[0], p[-1]):
+            continue  # a closed line has no end
+        line = shapely.LineString(p)
+        if line.length < 2 * reach * diagonal:
+            continue
+        for end in (0, 1):
+            at = np.linspace(0, reach * diagonal, 5)
+            at = at if end == 0 else line.length - at
+            pts = shapely.get_coordinates(shapely.line_interpolate_point(line, at))
+            d = np.diff(pts, axis=0)
+            d = d[np.hypot(d[:, 0], d[:, 1]) > 1e-9 * step]
+            tips += 1
+            if len(d) >= 2:
+                cos = float(d[0] @ d[-1] / (np.hypot(*d[0]) * np.hypot(*d[-1])))
+                hooked += cos < np.cos(np.radians(angle))
+    return hooked / tips if tips else 0.0
+
+
+def close_parallels_whole(output: list[np.ndarray], reference: list[np.ndarray],
+                          diagonal: float, near: float = 0.013, share: float = 0.5) -> float:
+    """Of the reference curves lying within ``near`` of the diagonal of another reference
+    curve along at least ``share`` of their length (close distinct parallels: a rim's
+    nested ellipses, a doubled edge), the share that come out whole (:func:`whole_lines`,
+    each judged alone); NaN where there is none.
+
+    >>> t = np.linspace(0, 100, 101)[:, None]
+    >>> pair = [np.hstack([t, 0 * t]), np.hstack([t, 0 * t + 6.4])]  # 1.28% of 500 apart
+    >>> close_parallels_whole(pair, pair, 500.0)
+    1.0
+    >>> close_parallels_whole([pair[0] + [0, 3.2]], pair, 500.0)  # one line between: none
+    0.0
+    """
+    points, which, _ = _samples(reference, 0.001 * diagonal)
+    if not len(points):
+        return float("nan")
+    own = np.asarray([k for k, p in enumerate(reference) if len(p) >= 2])
+    counts = _near_counts(points, which, _lines(reference), len(reference), near * diagonal,
+                          exclude=own)
+    total = np.bincount(which, minlength=len(reference))
+    close = np.flatnonzero((counts >= share * total[:, np.newaxis]).any(axis=1) & (total > 0))
+    if not len(close):
+        return float("nan")
+    lines = _lines(output)
+    if not len(lines):
+        return 0.0
+    whole = (_near_counts(points, which, lines, len(reference), 0.006 * diagonal)
+             >= 0.8 * total[:, np.newaxis]).any(axis=1)
+    return float(whole[close].mean())

@@ -4,7 +4,7 @@ copies of a sketch against the sketch alone.
 
     python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
                               [--data DIR] [--lines STAGE] [--skip PASS,...]
-                              [--tuning NAME=VALUE,...]
+                              [--tuning NAME=VALUE,...] [--anchor]
     python scripts/quality.py --compare BEFORE.json AFTER.json [--pictures DIR --before-root
                               TREE]
 
@@ -22,7 +22,10 @@ that before and after are scored by the same scorer. ``--svg`` writes each outpu
 (``core.params.Tuning``), for ablations scored by the same scorer. ``--data`` scores
 another folder of .scap sketches laid out as ``../shared/data`` (a source folder each, a
 lift3d reference ``full_fit.scap`` beside its sketch), for example sketches held
-out from tuning; the folder is recorded in OUT.json for ``--pictures``.
+out from tuning; the folder is recorded in OUT.json for ``--pictures``. ``--anchor``
+scores one line fitted per labelled cluster instead (``metrics.cluster_reference``): what
+a grouping as good as the labels gives with nothing smarter than medians, the ceiling to
+measure the grouping against.
 
 ``--pictures`` with ``--compare`` draws the five worst sketches of AFTER by doubled, ink
 kept, strokes per stroke in and tight recall, each as rough input | before (the checkout
@@ -51,7 +54,8 @@ MEASURES = ("whole_lines", "whole_lines_twins", "whole_lines_input", "doubled_re
             "doubled_ref_clear", "doubled_ref_floor",
             "chamfer_px", "doubled",
             "ink_kept", "coverage", "fidelity_px", "per_in", "per_intended", "f_score",
-            "tight_recall", "too_wide")
+            "tight_recall", "too_wide", "group_precision", "group_recall", "wobble", "hooks",
+            "close_parallels")
 #: for each measure, whether higher is better (the worst are the other end)
 HIGHER_IS_BETTER = {"whole_lines": True, "whole_lines_twins": True,
                     "whole_lines_input": True, "doubled_ref": False,
@@ -59,11 +63,14 @@ HIGHER_IS_BETTER = {"whole_lines": True, "whole_lines_twins": True,
                     "chamfer_px": False, "doubled": False, "ink_kept": True, "coverage": True,
                     "fidelity_px": False,
                     "per_in": False, "per_intended": False, "f_score": True,
-                    "tight_recall": True, "too_wide": False}
+                    "tight_recall": True, "too_wide": False, "group_precision": True,
+                    "group_recall": True, "wobble": False, "hooks": False,
+                    "close_parallels": True}
 #: the doubled share beyond which a sketch is listed, with its too_wide (the issue's worst)
 WIDE_SHARE = 0.25
 #: the measures whose worst sketches are listed and drawn
-WORST_OF = ("whole_lines", "doubled_ref", "chamfer_px", "doubled", "ink_kept", "per_in")
+WORST_OF = ("whole_lines", "doubled_ref", "chamfer_px", "doubled", "ink_kept", "per_in",
+            "group_recall", "group_precision", "wobble")
 FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
            "strokestrip_inputs/examples/study_inputs/Bee04_SA_cluster.scap",
            "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/trash_bin/view1/"
@@ -88,6 +95,14 @@ def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:
     from core import SimplifyParams, read_sketch, simplify, write_sketch
 
     sketch = read_sketch(path)
+    if options.get("anchor"):  # one line fitted per labelled cluster: where the ceiling is
+        from bench_simplify import diagonal
+        from metrics import cluster_reference
+
+        clusters = [s.cluster for s in sketch.strokes]
+        out = cluster_reference([s.points for s in sketch.strokes], clusters,
+                                diagonal(sketch))
+        return path, measure(Path(path), sketch, out, clusters)
     try:
         result = simplify(sketch, SimplifyParams(**options))
     except Exception as exc:  # noqa: BLE001 - a failure is a result here
@@ -95,7 +110,11 @@ def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:
     if svg_dir:
         name = Path(path).relative_to(data).as_posix().replace("/", "__")
         write_sketch(result.to_sketch(), Path(svg_dir) / (Path(name).stem + ".svg"))
-    return path, measure(Path(path), sketch, [s.points for s in result.strokes])
+    groups = getattr(result, "groups", None)  # (checkouts before 2026-12-04 have none)
+    if groups is not None:  # by stroke id: cleaning may drop a stroke
+        of = {s.source_id: g for s, g in zip(result.cleaned.strokes, groups.tolist())}
+        groups = [of.get(s.source_id, -1) for s in sketch.strokes]
+    return path, measure(Path(path), sketch, [s.points for s in result.strokes], groups)
 
 
 def far_ink(args: tuple[str, str]) -> tuple[str, float]:
@@ -220,7 +239,8 @@ def scored(rows: dict[str, dict]) -> dict[str, dict]:
 
 def worst(ok: dict[str, dict], measure: str, n: int = 5) -> list[str]:
     """The ``n`` worst of the scored sketches ``ok`` by ``measure`` (ties by name)."""
-    have = sorted(((v[measure], k) for k, v in ok.items() if measure in v),
+    have = sorted(((v[measure], k) for k, v in ok.items()
+                   if measure in v and not np.isnan(v[measure])),
                   reverse=not HIGHER_IS_BETTER[measure])
     return [k for _, k in have[:n]]
 
@@ -236,7 +256,7 @@ def summary(rows: dict[str, dict]) -> str:
         for m in MEASURES:
             vals = [v[m] for v in mine if m in v]
             if vals:
-                parts.append(f"{m} {np.median(vals):.3f}")
+                parts.append(f"{m} {np.nanmedian(vals):.3f}")
         lines.append(f"{source} ({len(mine)}): " + ", ".join(parts))
     for m in WORST_OF:
         lines.append(f"worst {m}: " + "; ".join(f"{short_name(k)} {ok[k][m]:.3f}"
@@ -282,6 +302,9 @@ def main(argv: list[str] | None = None) -> int:
                     "(an ablation)")
     ap.add_argument("--tuning", default="", help="pen tuning to change, as name=value,... "
                     "(core.params.Tuning)")
+    ap.add_argument("--anchor", action="store_true", help="score one line fitted per "
+                    "labelled cluster instead of a simplification: the ceiling a grouping "
+                    "as good as the labels gives with a plain median fit")
     ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
     ap.add_argument("--pictures", type=Path, help="with --compare: draw the worst here")
     ap.add_argument("--before-root", help="with --pictures: the checkout of BEFORE")
@@ -309,9 +332,12 @@ def main(argv: list[str] | None = None) -> int:
         if args.tuning:
             options["tuning"] = {k: float(v) for k, v in
                                  (item.split("=") for item in args.tuning.split(","))}
+        if args.anchor:
+            options = {"anchor": True}
         rows = dict(pool.map(score_one, [(root, str(data), f, args.svg, options)
                                          for f in files]))
-        far = [str(data / p) for p in FAR_INK if (data / p).exists() and args.only in p]
+        far = [str(data / p) for p in FAR_INK if (data / p).exists() and args.only in p
+               and not args.anchor]
         far_rows = dict(pool.map(far_ink, [(root, f) for f in far]))
         page_rows = dict(pool.map(page, [(root, f, options) for f in far]))
     out = {str(Path(k).relative_to(data)): v for k, v in rows.items()}

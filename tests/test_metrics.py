@@ -125,3 +125,13 @@ def test_lines_through_a_small_angle_crossing_a_little_off_count_as_doubled_unle
     assert doubled_on_reference(off, cross, 500.0) > 0.01
     cut = [part for line in off for part in (line[:201], line[200:])]
     assert doubled_on_reference(cut, cross, 500.0) == 0.0
+
+
+def test_the_scorers_examples_hold():
+    """The examples in metrics.py's docstrings (scripts/, outside core's doctest check)."""
+    import doctest
+
+    import metrics
+
+    result = doctest.testmod(metrics, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted >= 10 and result.failed == 0

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..arrays.polylines import arc_lengths, resample_polyline
+from ..arrays.polylines import arc_lengths, resample_polyline, total_lengths
 from ..complex.noding import GRID
 from ..curves.bezier import (
     SAMPLES_PER_SEGMENT,
@@ -25,7 +25,7 @@ from ..params import SimplifyParams
 from .junctions import met_ends
 from .work import Work
 
-__all__ = ["FittedStroke", "fit_lines", "run"]
+__all__ = ["FittedStroke", "fit_lines", "run", "stroke_groups"]
 
 
 @dataclass(frozen=True)
@@ -79,4 +79,30 @@ def run(work: Work) -> Work:
     fitted = fit_lines(lines, closed, work.params, work.memo)
     meets = [tuple(number.get(m) if m is not None else None for m in line.meets)
              for k, line in enumerate(current) if k in number]
-    return work.with_(fitted=met_ends(fitted, meets))
+    drawn = [(number[k], p) for k, line in enumerate(current) if k in number
+             for p in line.members]
+    return work.with_(fitted=met_ends(fitted, meets),
+                      groups=stroke_groups(drawn, work.piece_stroke,
+                                           total_lengths(work.pieces), len(work.strokes)))
+
+
+def stroke_groups(drawn: list[tuple[int, int]], piece_stroke: np.ndarray,
+                  piece_length: np.ndarray, strokes: int) -> np.ndarray:
+    """For each input stroke, the output stroke that draws most of its length, -1 where
+    none does (its pieces were crumbs): the grouping the lines made, for measuring it
+    against labels. ``drawn`` pairs each output stroke with a piece it stands for.
+
+    >>> stroke_groups([(0, 0), (0, 1), (1, 2)], np.array([0, 1, 1, 2]),
+    ...               np.array([1.0, 1.0, 3.0, 1.0]), 4).tolist()
+    [0, 1, -1, -1]
+    """
+    out = np.full(strokes, -1, dtype=np.intp)
+    if not drawn:
+        return out
+    line, piece = np.asarray(drawn, dtype=np.intp).T
+    stroke = piece_stroke[piece]
+    weight = np.zeros((strokes, int(line.max()) + 1))
+    np.add.at(weight, (stroke, line), piece_length[piece])
+    has = weight.max(axis=1) > 0
+    out[has] = weight[has].argmax(axis=1)
+    return out

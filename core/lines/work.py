@@ -40,7 +40,8 @@ class Work:
     (``pieces``); for every sample of every piece, the alive curve it follows and where
     along it, -1 and NaN where none (``follow``); the pairs of pieces that draw one line and
 a group label per piece, their connected components (``group``);
-    the lines (``fit``, ``corners``, ``junctions``); the fitted strokes (``bezier``).
+    the lines (``fit``, ``corners``, ``junctions``); the fitted strokes and, per input
+    stroke, the fitted stroke that draws most of it (``bezier``).
     """
 
     state: ComplexState
@@ -59,6 +60,7 @@ a group label per piece, their connected components (``group``);
     pairs: np.ndarray | None = None
     lines: list[Line] | None = None
     fitted: list = field(default_factory=list)
+    groups: np.ndarray | None = None
 
     @classmethod
     def start(cls, state: ComplexState, params: SimplifyParams, strokes: list[np.ndarray],
