@@ -76,8 +76,8 @@ def parse_frames(text: str) -> tuple[str, tuple[int, int] | None]:
 
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="batch_simplify.py", description=__doc__.splitlines()[0])
-    p.add_argument("blend", nargs="*", type=Path, help=".blend files (under blender -b: "
-                   "the open file when none is given)")
+    p.add_argument("blend", nargs="*", type=Path, help=".blend files or folders of them "
+                   "(under blender -b: the open file when none is given)")
     p.add_argument("--objects", default="", help="comma-separated object names")
     p.add_argument("--layers", choices=("visible", "active"), default="visible")
     p.add_argument("--frames", default="all", help="all, current, or a range like 10-120")
@@ -101,6 +101,19 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--resume", action="store_true",
                    help="skip the .blend files whose output is already there")
     return p
+
+
+def blend_files(given: list[Path]) -> list[Path]:
+    """The files given, each folder among them as the .blend files in it (sorted; not
+    the ``*_simplified.blend`` an earlier run wrote beside its inputs)."""
+    out = []
+    for path in given:
+        if path.is_dir():
+            out += sorted(p for p in path.glob("*.blend")
+                          if p.is_file() and not p.stem.endswith("_simplified"))
+        else:
+            out.append(path)
+    return out
 
 
 def output_path(blend: Path, args, several: bool) -> Path:
@@ -221,12 +234,14 @@ def main() -> int:
         params = SimplifyParams(**{k: v for k, v in given.items() if v is not None})
         if args.jobs is not None and args.jobs < 1:
             raise UsageError(f"--jobs must be at least 1, got {args.jobs}")
-        blends = list(args.blend) or ([None] if bpy.data.filepath else [])
+        blends = blend_files(args.blend) or ([None] if bpy.data.filepath else [])
         if not blends:
-            raise UsageError("no .blend file given")
+            raise UsageError("no .blend file given" if not args.blend else
+                             f"no .blend file in {', '.join(map(str, args.blend))}")
         if args.resume and args.in_place:
             raise UsageError("--resume cannot tell finished files when writing in place")
-        several = len(blends) > 1  # outputs named as for every file given
+        # outputs named as for every file given (a folder is several, whatever it holds)
+        several = len(blends) > 1 or any(b.is_dir() for b in args.blend)
         failed: list[dict] = []
 
         def fail(blend, reason: str) -> None:

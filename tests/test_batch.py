@@ -108,6 +108,21 @@ def test_several_files_into_a_folder(shot, tmp_path):
     assert "2 file(s)" in done.stdout
 
 
+def test_a_folder_of_blend_files_is_every_file_in_it(shot, tmp_path):
+    """A folder given is its .blend files (not an earlier run's *_simplified.blend); an
+    empty folder is named, not called a missing file."""
+    folder = tmp_path / "shots"
+    folder.mkdir()
+    for name in ("a.blend", "b.blend", "a_simplified.blend"):
+        (folder / name).write_bytes(shot.read_bytes())
+    done = run(folder, "--output", tmp_path / "out", "--frames", "current")
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["a.blend", "b.blend"]
+    (tmp_path / "empty").mkdir()
+    empty = run(tmp_path / "empty", "--output", tmp_path / "out2")
+    assert empty.returncode == 2 and "no .blend file in" in empty.stderr
+
+
 def test_several_files_on_a_dask_cluster_match_the_local_run_and_resume_skips_done_files(
         shot, tmp_path, dask_cluster):
     """The client reads every file's drawings with bpy and sends them first; the workers
