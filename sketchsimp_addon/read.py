@@ -64,6 +64,9 @@ def target_layers(gp, which: str, report: RunReport) -> list:
         if why == "hidden" and gp.layers.get(f"{layer.name} simplified") is not None:
             why = (f"hidden: simplified before into '{layer.name} simplified'; show it to "
                    "simplify it again")
+        if why in ("locked", "hidden"):  # what to do about it, in Blender's terms
+            why += (": unlock it (its lock icon in the Layers list) to simplify it"
+                    if why == "locked" else ": show it (its eye icon) to simplify it")
         if why is None:
             out.append(layer)
         else:

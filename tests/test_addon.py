@@ -153,7 +153,7 @@ def test_bad_input_reports_and_changes_nothing(case):
     layer.hide = case == "hidden"
     before = snapshot(layer.frames[0].drawing)
     why = {"empty": "an empty keyframe", "one_point": "only strokes of one point",
-           "locked": "locked", "hidden": "hidden"}[case]
+           "locked": "locked: unlock it", "hidden": "hidden: show it"}[case]
     with pytest.raises(RuntimeError, match=f"Nothing to simplify.*{why}"):
         bpy.ops.sketchsimp.simplify()
     assert len(ob.data.layers) == 1
@@ -833,7 +833,7 @@ def test_visible_layers_each_get_a_layer_just_above():
     assert bpy.ops.sketchsimp.simplify(layers="VISIBLE", hide_source=False) == {"FINISHED"}
     assert [x.name for x in ob.data.layers] == ["Back", "Back simplified", "Front",
                                                 "Front simplified", "Hidden"]
-    assert "layer 'Hidden' (hidden)" in bpy.context.scene.sketchsimp.last_run
+    assert "layer 'Hidden' (hidden: show it" in bpy.context.scene.sketchsimp.last_run
 
 
 def test_layer_transform_and_parent_are_kept_and_edit_mode_works():
