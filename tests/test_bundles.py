@@ -1,0 +1,126 @@
+"""Every bundle one line (issue 51): the known answers, on rough drawings made here at the
+defaults. A bundle of passes that run along each other is one line however wide, where
+nothing separates it from itself; two lines closer than a loose bundle is wide, each
+drawn as a tight bundle, stay two."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from core import Sketch, Stroke, simplify
+
+CANVAS = 500.0
+D = float(np.hypot(CANVAS, CANVAS))  # the canvas's diagonal; drawings fill most of it
+
+
+def lines_of(strokes: list[np.ndarray], width: float = CANVAS, height: float = CANVAS
+             ) -> list[Stroke]:
+    return simplify(Sketch([Stroke(p) for p in strokes], width, height)).strokes
+
+
+def ring(centre, radius: float, turn: float = 0.0, n: int = 120, wobble: float = 0.0,
+         seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    t = turn + np.linspace(0, 2 * np.pi, n)
+    r = radius + wobble * np.sin(3 * t + rng.uniform(0, 6))
+    return np.stack([centre[0] + r * np.cos(t), centre[1] + r * np.sin(t)], axis=1)
+
+
+def test_a_circle_drawn_as_four_loose_passes_two_percent_apart_is_one_closed_line():
+    passes = [ring((250, 250), 150 + k * 0.02 * D / 3, turn=k, seed=k) for k in range(4)]
+    out = lines_of(passes)
+    assert len(out) == 1 and out[0].closed
+
+
+@pytest.mark.xfail(strict=True, reason="issue 51: passes farther apart than the "
+                   "bundle width d_eps are never paired, whatever the room around them")
+def test_an_arrows_bend_drawn_as_three_passes_is_one_line():
+    """Three passes 2.5% of the diagonal apart round a bend, nothing else near."""
+    out = []
+    for k in range(3):
+        off = k * 0.025 * D
+        out.append(np.array([[100.0, 100 + off], [300 - off, 100 + off], [300 - off, 400]]))
+    lines = lines_of([resample(p, 2.0) for p in out])
+    assert len(lines) == 1
+
+
+def test_two_edges_0_7_percent_apart_each_a_tight_bundle_of_three_stay_two():
+    rng = np.random.default_rng(2)
+    x = np.linspace(50, 450, 80)
+    strokes = [np.stack([x, 250 + y0 + rng.normal(0, 0.05, 80) + rng.uniform(-0.3, 0.3)],
+                        axis=1) for y0 in (0.0, 0.007 * D) for _ in range(3)]
+    out = lines_of(strokes)
+    assert len(out) == 2
+    heights = sorted(float(np.median(s.points[:, 1])) for s in out)
+    assert heights == pytest.approx([250, 250 + 0.007 * D], abs=0.002 * D)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 51: the centreline's smoothing is "
+                   "fixed (half a bundle width), not set by the bundle's spread")
+def test_a_straight_edge_drawn_five_times_wandering_comes_out_straight():
+    """Five passes, each wandering 0.5% of the diagonal about the edge: the line within
+    0.15% of the diagonal of the straight edge (the median of the passes, not one pass's
+    wander)."""
+    rng = np.random.default_rng(4)
+    x = np.linspace(50, 450, 120)
+    strokes = []
+    for _ in range(5):
+        wander = 0.005 * D * np.sin(x / rng.uniform(40, 90) + rng.uniform(0, 6))
+        strokes.append(np.stack([x, 250 + wander], axis=1))
+    out = lines_of(strokes)
+    assert len(out) == 1
+    assert np.abs(out[0].points[:, 1] - 250).max() < 0.0015 * D
+
+
+def s_curve(offset: float, seed: int) -> np.ndarray:
+    """A cursive S: two bowls, drawn top to bottom."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 1, 160)
+    a = np.pi * (0.25 + 1.5 * t)
+    top = np.stack([250 + 80 * np.cos(a[:80]), 170 - 80 * np.sin(a[:80])], axis=1)
+    b = np.pi * (0.5 - 1.5 * t[:80])
+    bottom = np.stack([250 + 80 * np.cos(b), 330 - 80 * np.sin(b)], axis=1)
+    return np.concatenate([top, bottom]) + offset + rng.normal(0, 0.3, (160, 2))
+
+
+@pytest.mark.xfail(strict=True, reason="issue 51: a bowl about two bundle widths round is cut at "
+                   "'corners' (turning over 70 degrees within 2 d_eps)")
+def test_a_cursive_s_drawn_as_three_passes_keeps_both_bowls_round():
+    out = lines_of([s_curve(k * 0.006 * D, k) for k in range(3)])
+    assert len(out) == 1
+    drawn = shapely.LineString(s_curve(0.006 * D, 1))
+    # each bowl's far side stays round: no corner cuts across it
+    assert shapely.hausdorff_distance(shapely.LineString(out[0].points), drawn) < 0.02 * D
+
+
+def test_a_ts_stem_ends_on_the_bar():
+    bar = [np.array([[100.0, 100 + d], [400.0, 100 + d]]) for d in (0.0, 1.5)]
+    stem = [np.array([[250.0 + d, 106.0], [250.0 + d, 400.0]]) for d in (0.0, 1.2)]
+    out = lines_of([resample(p, 2.0) for p in bar + stem])
+    assert len(out) == 2
+    vertical = max(out, key=lambda s: np.ptp(s.points[:, 1]))
+    horizontal = min(out, key=lambda s: np.ptp(s.points[:, 1]))
+    top = vertical.points[np.argmin(vertical.points[:, 1])]
+    assert shapely.distance(shapely.Point(top), shapely.LineString(horizontal.points)) < 1e-6
+
+
+@pytest.mark.xfail(strict=True, reason="issue 51: a loop two bundle widths wide is cut "
+                   "at 'corners' and comes out open")
+def test_an_eye_drawn_as_three_passes_beside_a_face_stays_one_closed_loop():
+    """An eye, a loop 2% of the diagonal wide drawn round three times a little apart,
+    inside a face outline drawn twice: the eye is one closed line."""
+    face = [ring((250, 250), 200, turn=k, seed=k) for k in range(2)]
+    eye = [ring((180, 200), 0.01 * D + 0.4 * k, turn=2 * k, n=60, seed=5 + k)
+           for k in range(3)]
+    out = lines_of(face + eye)
+    small = [s for s in out if np.ptp(s.points[:, 0]) < 0.05 * D]
+    assert len(small) == 1 and small[0].closed
+
+
+def resample(p: np.ndarray, step: float) -> np.ndarray:
+    d = np.hypot(*np.diff(p, axis=0).T)
+    s = np.r_[0, np.cumsum(d)]
+    t = np.linspace(0, s[-1], max(2, int(s[-1] / step) + 1))
+    return np.stack([np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])], axis=1)
