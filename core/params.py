@@ -245,35 +245,18 @@ class SimplifyParams:
         (:func:`ink_spacing`), no narrower than the paper's 0.012 and no wider than
         :data:`LOOSE_ALPHA`. A sparse drawing, whose passes lie far apart for its size
         (cartoons, handwriting, test drawings), gets a wider bundle; a dense one (product
-        sketches: many close construction lines) keeps the paper's. On the 101 dev
-        sketches: doubled ink 0.112 -> 0.108 (cartoons 0.147 -> 0.118, study drawings
-        0.236 -> 0.180, product sketches 0.065 unchanged), strokes per intended curve
-        1.045 -> 1.036, tight recall 0.828 -> 0.825, worst ink kept 0.986 -> 0.985,
-        distance to the ink 0.43 -> 0.46 px, sketches with more strokes out than in 2 ->
-        1. Wider is not safe: at a cap of 2% the spiral test drawings lost ink (kept 0.92;
-        their ink spans more than their canvas) and their partly merged arms kinked; at a
-        floor below 0.012 (the spacing alone, 1.0 times) product sketches kept their close
-        lines (tight recall 0.937) but doubled ink doubled (0.228).
+        sketches: many close construction lines) keeps the paper's. (How each bound was
+        measured: ``docs/decisions.md``, "The auto width's bounds".)
 
         Then never more than :data:`STROKE_SHARE` of the median length of the strokes (nor
         less than :data:`MIN_ALPHA`): a bundle is never wider than half the strokes that
-        make it are long. The
-        cap leaves every dev sketch alone (their median strokes are 3.3 to 140% of the
-        diagonal long; at 0.25 it narrowed six sketches of short strokes, and Bunny04's
-        doubled ink went 0.19 -> 0.33); where a drawing is many small parts spread wide,
-        the width follows the parts, not the spread. On synthetic sketches of 1,000 to
-        10,000 strokes, 1.2% of the diagonal grew from 0.7 to 2 times a stroke's length,
-        merged separate bundles and made the time grow as strokes^1.4 (initial curve pairs
-        5.6 a stroke at 1,000 strokes, 25 at 10,000).
+        make it are long. Where a drawing is many small parts spread wide, the width
+        follows the parts, not the spread.
 
         "auto" fill_gap is the ink's spacing, at most :data:`FILL_GAP_SHARE` of d_eps
         (without strokes, that share of d_eps): a band free of ink wider than the drawing's
         usual distance between passes is the space between two lines, not a gap inside a
-        bundle. Measured on the 101 dev sketches against a fixed 0.7 d_eps: the fixed gap
-        took the median doubled ink to 0.048 but merged product sketches' close
-        construction lines (tight recall 0.814 -> 0.808); the spacing (0.64% of D on a
-        product sketch, about 1% on a cartoon) merged the cartoons' wide bundles alike
-        and left tight recall at 0.814.
+        bundle.
 
         >>> SimplifyParams().resolved().alpha, SimplifyParams(alpha=0.02).resolved().alpha
         (0.012, 0.02)

@@ -8,28 +8,10 @@ ink: at most :data:`KEEP_LEFT` of the drawing's ink, and :data:`KEEP_STROKE` of 
 stroke, farther than :data:`KEEP_REACH` of its diagonal (or its canvas's, if smaller)
 from the output. It is judged at :data:`KEEP_EPSILON` whatever the epsilon asked, so that
 the width is the drawing's and every epsilon replays one merge history. Otherwise the
-narrow width's result, as before.
+narrow width's result.
 
-Measured on 190 sketches (101 dev, 89 held out), same scorer, against the loose cap
-alone: 13 sketches changed, 8 with doubled ink lower by more than 0.02 and none higher
-(held out: loop 0.622 -> 0.325, bean 0.578 -> 0.311, pretzel 0.280 -> 0.029, notes
-0.056 -> 0.015, 4 -> 1 strokes per intended curve among them; dev: infinity 0.728 ->
-0.673); held-out median 0.043 -> 0.040 (study drawings 0.080 -> 0.060), sketches doubled
-more than 0.25 11 -> 10; dev medians, ink kept (worst 0.987), tight recall and F
-unchanged. Without the band test 23 changed, 15 for the better (dev branch 1.000 ->
-0.436, bend 0.997 -> 0.544), but lines 2.5% of the diagonal apart in hatching merged in
-pairs and a spiral's arms 2% apart into one line, with all the ink kept: a share of ink
-kept cannot see two lines become one. Without the per-stroke share a 3%-long stem at right
-angles to a line was trimmed as a spur (a small share of the ink). Time, interleaved at a
-pace of 0.08 s: the 20 dev sketches that try a wider width 0.157 -> 0.332 s median (2.0
-times: two or three runs, on the small sparse drawings), 40 sketches spread over all 190
-0.794 -> 0.769 s median (unchanged within noise).
-
-Counting a band whose passes swap sides across it as one loose line
-(:data:`core.params.SWAP_SHARE`) widened 3 more sketches: held out handdrawn 0.854 ->
-0.739 (the worst of the set, now loop2 0.760), u_single 0.523 -> 0.465, dev spiral3
-0.205 -> 0.050 (ink kept 0.992, its arms apart); nothing else moved. Time: the 39 sparse
-sketches 0.324 -> 0.336 s median, 40 spread over all 190 0.749 -> 0.741 s.
+How the wider widths were measured (190 sketches, with the complex stage then the
+default): ``docs/decisions.md``, "Wider where the ink allows (moved from core.simplify)".
 
 Invariants: a drawing that is not sparse, or whose alpha is a number, is simplified once,
 as before; a wider result is never kept that leaves more ink out than KEEP_LEFT.
