@@ -67,7 +67,7 @@ def test_batch_writes_a_new_file_and_leaves_the_shot_alone(shot, tmp_path):
     assert info["drawings"] == 3  # house, the shared cup once, the fish of Extra
     assert 0 < info["strokes_out"] < info["strokes_in"]
     skipped = " ".join(info["files"][0]["skipped"])
-    assert "layer 'Locked' (locked)" in skipped
+    assert "layer 'Locked' (locked: unlock it" in skipped
     layers = inspect(out)
     # the empty keyframe 13 stays empty in the output: the cup of 5 and 9 ends there
     assert sorted(layers["Shot"]["Ink simplified"], key=int) == ["1", "5", "9", "13"]
