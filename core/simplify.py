@@ -79,6 +79,51 @@ FILL_REACH = 2.0
 FILL_SAMPLES = 16
 
 
+@dataclass(frozen=True)
+class Prepared:
+    """A sketch ready for the complex (stage 1): cleaned, in its drawing's unit frame."""
+
+    #: the input cleaned of non-finite points, duplicates and strokes of one point
+    cleaned: Sketch
+    #: what cleaning dropped or mended
+    report: CleaningReport
+    #: the cleaned strokes in the unit frame (the drawing's diagonal 1)
+    unit: list[np.ndarray]
+    #: the unit frame: to and from the input's coordinates
+    norm: Normalisation
+    #: the input ink, whose width, pressure and style the lines carry (stage 6)
+    ink: NearestInk
+
+    @property
+    def drawing(self) -> list[np.ndarray]:
+        """The drawing's strokes in the unit frame, without ink far away from it."""
+        return drawing_strokes(self.unit, self.norm.box)
+
+
+def prepare(sketch: Sketch) -> Prepared:
+    """Stage 1: the sketch cleaned and in its drawing's unit frame
+    (:mod:`core.io.cleaning`)."""
+    cleaned, report = clean_sketch(sketch)
+    unit, norm = normalised_strokes(cleaned)
+    return Prepared(cleaned, report, unit, norm, NearestInk(cleaned.strokes, unit))
+
+
+def build_complex(prepared: Prepared, params: SimplifyParams) -> BaseComplex:
+    """Stage 3: the base complex of the strokes (:mod:`core.complex`, paper 3.1), a
+    sketch too tangled for ``params.max_curves`` refused before and after noding."""
+    if params.max_curves is not None:
+        crossings = more_crossings_than(prepared.unit, params.max_curves // 2)
+        if crossings is not None:
+            raise SketchError(f"the strokes cross each other over {crossings} times, too "
+                              f"tangled for max_curves = {params.max_curves}: simplify it "
+                              "in parts")
+    cx = build_base_complex(prepared.unit)
+    if params.max_curves is not None and cx.num_curves > params.max_curves:
+        raise SketchError(f"the strokes cross into {cx.num_curves} curves, more than the "
+                          f"{params.max_curves} allowed (max_curves): simplify it in parts")
+    return cx
+
+
 @dataclass
 class SimplifyResult:
     """Output strokes (input coordinates) and everything that led to them."""
@@ -151,8 +196,10 @@ class SimplifyResult:
         state = _replayed(self.complex, record, replace(self.params, epsilon=epsilon))
         params = replace(self.params, epsilon=epsilon)
         timings = {"replay": time.perf_counter() - t0}
-        out = _finish(self._input, self._ink, self.cleaning, self.normalisation, self.complex,
-                      state, record[:state.merges_applied], params, None, timings, self._memo)
+        prepared = Prepared(self._input, self.cleaning, self._ink.unit_points,
+                            self.normalisation, self._ink)
+        out = _finish(prepared, self.complex, state, record[:state.merges_applied], params,
+                      None, timings, self._memo)
         out._recorded, out._covers = record, self.covers
         return out
 
@@ -196,12 +243,15 @@ def _counts(nodes: int, curves: int, patches: int, strokes: int) -> dict[str, in
     return {"strokes": strokes, "nodes": nodes, "curves": curves, "patches": patches}
 
 
-def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normalisation,
-            cx: BaseComplex, state: ComplexState, history: list[Merge],
+def _finish(prepared: Prepared, cx: BaseComplex, state: ComplexState, history: list[Merge],
             params: SimplifyParams, stats: AgglomerationStats | None,
             timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
+    """Stages 5 and 6 on a simplified complex: the lines drawn from the pen
+    (:mod:`core.lines`), then the ink's attributes carried onto them, back in the input's
+    coordinates. A fresh run, a replay and a rebuild from a record all end here."""
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
+    ink, norm, sketch = prepared.ink, prepared.norm, prepared.cleaned
     pen = lines_from_pen(state, params.resolved(), ink.unit_points, memo)
     fitted = pen.work.fitted
     timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
@@ -218,8 +268,8 @@ def _finish(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Nor
         "before": _counts(cx.num_nodes, cx.num_curves, cx.num_patches, len(sketch.strokes)),
         "after": _counts(nodes_after, state.num_curves, state.num_patches, len(strokes)),
     }
-    return SimplifyResult(strokes, params, cx, state, history, norm, cleaning, counts, timings,
-                          stats, pen.work.groups, sketch, ink, memo)
+    return SimplifyResult(strokes, params, cx, state, history, norm, prepared.report, counts,
+                          timings, stats, pen.work.groups, sketch, ink, memo)
 
 
 def simplify(sketch: Sketch, params: SimplifyParams | None = None,
@@ -239,43 +289,23 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None,
     if not isinstance(params, SimplifyParams):
         raise SketchError(f"params must be SimplifyParams, got {type(params).__name__}")
     t0 = time.perf_counter()
-    cleaned, report = clean_sketch(sketch)
-    unit, norm = normalised_strokes(cleaned)
-    drawing = drawing_strokes(unit, norm.box)
-    *wider, params = params.widths(drawing)  # "auto" alpha follows the ink
+    prepared = prepare(sketch)                        # 1. clean, into the unit frame
+    *wider, params = params.widths(prepared.drawing)  # 2. the width: "auto" follows the ink
     t1 = time.perf_counter()
-    if params.max_curves is not None:
-        crossings = more_crossings_than(unit, params.max_curves // 2)
-        if crossings is not None:
-            raise SketchError(f"the strokes cross each other over {crossings} times, too "
-                              f"tangled for max_curves = {params.max_curves}: simplify it "
-                              "in parts")
-    cx = build_base_complex(unit)
-    if params.max_curves is not None and cx.num_curves > params.max_curves:
-        raise SketchError(f"the strokes cross into {cx.num_curves} curves, more than the "
-                          f"{params.max_curves} allowed (max_curves): simplify it in parts")
-    t2 = time.perf_counter()
-    ink = NearestInk(cleaned.strokes, unit)
-    timings = {"clean": t1 - t0, "complex": t2 - t1}
-    reach = KEEP_REACH * min(1.0, np.hypot(cleaned.width, cleaned.height) / norm.scale
-                             if cleaned.width and cleaned.height else 1.0)
-    result = None
-    for wide in wider:  # judged at KEEP_EPSILON, then replayed to the epsilon asked
-        run = _run(cleaned, ink, report, norm, cx,
-                   replace(wide, epsilon=max(wide.epsilon, KEEP_EPSILON)), timings, cover)
-        judged = run if run.params.epsilon == KEEP_EPSILON else run.at(KEEP_EPSILON)
-        if _keeps_ink(drawing, [norm.to_unit(s.points) for s in judged.strokes], reach):
-            result = run if wide.epsilon == run.params.epsilon else run.at(wide.epsilon)
-            break
-    if result is None:
-        result = _run(cleaned, ink, report, norm, cx, params, timings, cover)
+    cx = build_complex(prepared, params)              # 3. the base complex (3.1)
+    timings = {"clean": t1 - t0, "complex": time.perf_counter() - t1}
+    # 4-6. agglomerate (3.2), draw the lines, carry the ink's attributes: a wider width
+    # first where the drawing is sparse, kept where its result keeps the ink
+    result = _wider_kept(prepared, cx, wider, timings, cover) or _run(prepared, cx, params,
+                                                                      timings, cover)
     if not result.strokes and result.params.epsilon > 0:
         # every stroke of the drawing shorter than the bundle width, as where ink far away
         # holding much of the points sets the drawing's size: say so, rather than give back
         # an empty drawing as if simplified
         raise SketchError(
             f"nothing would come out: every stroke is shorter than the bundle width "
-            f"({result.params.alpha:.3g} of the drawing's diagonal, {norm.scale:.3g}); is "
+            f"({result.params.alpha:.3g} of the drawing's diagonal, "
+            f"{prepared.norm.scale:.3g}); is "
             "part of the ink far away from the rest? Simplify the parts apart, or at "
             "epsilon 0")
     result.timings["total"] = time.perf_counter() - t0
@@ -295,14 +325,11 @@ def from_record(sketch: Sketch, params: SimplifyParams, record: list[Merge],
         raise SketchError(f"epsilon {params.epsilon} is outside 0..{covers}, the range "
                           "this record covers")
     t0 = time.perf_counter()
-    cleaned, report = clean_sketch(sketch)
-    unit, norm = normalised_strokes(cleaned)
-    cx = build_base_complex(unit)
-    ink = NearestInk(cleaned.strokes, unit)
+    prepared = prepare(sketch)
+    cx = build_base_complex(prepared.unit)
     state = _replayed(cx, record, params)
     timings = {"rebuild": time.perf_counter() - t0}
-    out = _finish(cleaned, ink, report, norm, cx, state, record[:state.merges_applied], params,
-                  None, timings)
+    out = _finish(prepared, cx, state, record[:state.merges_applied], params, None, timings)
     out._recorded, out._covers = list(record), covers
     return out
 
@@ -319,12 +346,31 @@ def _replayed(cx: BaseComplex, record: list[Merge], params: SimplifyParams) -> C
     return state
 
 
-def _run(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normalisation,
-         cx: BaseComplex, params: SimplifyParams, timings: dict[str, float],
-         cover: float | None = None) -> SimplifyResult:
-    """The merge loop and the output stage on the base complex, at one resolved width;
-    with ``cover`` above epsilon, the loop runs on to it (recorded for :meth:`at`) and
-    the output is made at epsilon alone."""
+def _wider_kept(prepared: Prepared, cx: BaseComplex, wider: list[SimplifyParams],
+                timings: dict[str, float], cover: float | None) -> SimplifyResult | None:
+    """The result at the first of the ``wider`` widths whose lines keep the ink
+    (:func:`_keeps_ink`), judged at :data:`KEEP_EPSILON` whatever the epsilon asked, then
+    replayed to it; None where none does."""
+    if not wider:
+        return None
+    cleaned, norm = prepared.cleaned, prepared.norm
+    reach = KEEP_REACH * min(1.0, np.hypot(cleaned.width, cleaned.height) / norm.scale
+                             if cleaned.width and cleaned.height else 1.0)
+    drawing = prepared.drawing
+    for wide in wider:
+        run = _run(prepared, cx, replace(wide, epsilon=max(wide.epsilon, KEEP_EPSILON)),
+                   timings, cover)
+        judged = run if run.params.epsilon == KEEP_EPSILON else run.at(KEEP_EPSILON)
+        if _keeps_ink(drawing, [norm.to_unit(s.points) for s in judged.strokes], reach):
+            return run if wide.epsilon == run.params.epsilon else run.at(wide.epsilon)
+    return None
+
+
+def _run(prepared: Prepared, cx: BaseComplex, params: SimplifyParams,
+         timings: dict[str, float], cover: float | None = None) -> SimplifyResult:
+    """Stage 4, the merge loop (:mod:`core.merge`, paper 3.2), then stages 5 and 6 on the
+    base complex, at one resolved width; with ``cover`` above epsilon, the loop runs on to
+    it (recorded for :meth:`at`) and the lines are drawn at epsilon alone."""
     t0 = time.perf_counter()
     on = cover is not None and cover > params.epsilon
     record, state, stats = agglomerate(cx, replace(params, epsilon=cover) if on else params)
@@ -333,7 +379,7 @@ def _run(sketch: Sketch, ink: NearestInk, cleaning: CleaningReport, norm: Normal
         state = _replayed(cx, record, params)
         history = record[:state.merges_applied]
     timings = {**timings, "agglomerate": time.perf_counter() - t0}
-    out = _finish(sketch, ink, cleaning, norm, cx, state, history, params, stats, timings)
+    out = _finish(prepared, cx, state, history, params, stats, timings)
     if on:
         out._recorded, out._covers = record, cover
     return out
@@ -363,5 +409,5 @@ def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float)
 
 
 __all__ = ["FILL_CLOSE", "FILL_MIN_SHARE", "FILL_REACH", "FILL_SAMPLES", "KEEP_EPSILON",
-           "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE", "SimplifyResult", "from_record",
-           "simplify"]
+           "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE", "Prepared", "SimplifyResult",
+           "build_complex", "from_record", "prepare", "simplify"]
