@@ -58,6 +58,9 @@ def target_layers(gp, which: str, report: RunReport) -> list:
             continue
         why = why_left_alone(layer)
         source = result_of(gp, layer)
+        if source is not None and source in candidates and why_left_alone(source) is None:
+            report.rewritten.append(layer.name)  # its source's run writes it again
+            continue
         if source is not None:
             why = (f"the result of '{source.name}': replaced when '{source.name}' is "
                    "simplified again")

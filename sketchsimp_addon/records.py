@@ -28,6 +28,9 @@ class RunReport:
     notes: list[str] = field(default_factory=list)
     #: the bundle width each drawing was simplified with, in its layer's units (d_eps)
     widths: list[float] = field(default_factory=list)
+    #: result layers of an earlier run whose sources this run simplifies again: rewritten,
+    #: not sources themselves (information, not a warning)
+    rewritten: list[str] = field(default_factory=list)
 
     def message(self) -> str:
         text = (f"Simplified {self.drawings} drawing(s): {self.strokes_in} strokes -> "
@@ -38,6 +41,8 @@ class RunReport:
                      f", bundle width {low:.3g} to {high:.3g}")
         if self.skipped:
             text += "; skipped " + ", ".join(self.skipped)
+        if self.rewritten:
+            text += "; rewrote " + ", ".join(f"'{name}'" for name in self.rewritten)
         if self.notes:
             text += "; " + ", ".join(self.notes)
         return text
