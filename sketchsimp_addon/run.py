@@ -110,6 +110,11 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
     # an empty keyframe hides the drawing before it from its frame on: so must the output's
     drawn = {r.layer.as_pointer() for r in results}
     kept = [(layer, frames) for layer, frames in empty if layer.as_pointer() in drawn]
+    bare: dict[str, int] = {}  # layers whose keyframes were all empty: named, not done
+    for layer, frames in empty:
+        if layer.as_pointer() not in drawn:
+            bare[layer.name] = bare.get(layer.name, 0) + len(frames)
+    report.skipped += [f"layer '{name}' (only empty keyframes: {n})" for name, n in bare.items()]
     results += [DrawingResult(layer, frames, [], NewStrokes.none()) for layer, frames in kept]
     if kept:
         report.notes.append(f"{len(kept)} empty keyframe(s) kept empty")

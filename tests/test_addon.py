@@ -232,6 +232,15 @@ def test_an_empty_keyframe_stays_empty_in_the_output():
         assert (shown == 0) == empty, number  # nothing of the cup shows through at 20-29
 
 
+def test_an_object_of_only_empty_keyframes_is_named_with_the_reason():
+    """All Keyframes over a layer whose keyframes are all empty: nothing is written, and
+    the report says which layer and why, not "no strokes found"."""
+    ob = make_object({1: None, 10: None})
+    with pytest.raises(RuntimeError, match="layer 'Lines' \\(only empty keyframes: 2\\)"):
+        bpy.ops.sketchsimp.simplify(scope="ALL")
+    assert [x.name for x in ob.data.layers] == ["Lines"]
+
+
 def test_selected_strokes_to_a_new_layer_leave_the_rest_of_the_source_in_view():
     ob = make_object({1: "house"})
     drawing = ob.data.layers["Lines"].frames[0].drawing
