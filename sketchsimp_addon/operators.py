@@ -41,7 +41,10 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
     def poll(cls, context) -> bool:
         obj = context.active_object
         if obj is None:
-            cls.poll_message_set("No active object: select a Grease Pencil object")
+            cls.poll_message_set(
+                "No active object: select a Grease Pencil object" if not bpy.app.background
+                else "No active object: set bpy.context.view_layer.objects.active, or run "
+                "scripts/batch_simplify.py for every Grease Pencil object")
             return False
         if obj.type not in ("GREASEPENCIL", "CURVE"):
             cls.poll_message_set(f"'{obj.name}' is neither a Grease Pencil nor a curve object")

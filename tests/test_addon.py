@@ -135,6 +135,8 @@ def test_new_object_output():
 def test_no_active_object_or_wrong_type_fails_poll():
     bpy.context.view_layer.objects.active = None
     assert not bpy.ops.sketchsimp.simplify.poll()
+    with pytest.raises(RuntimeError, match="objects.active, or run scripts/batch_simplify"):
+        bpy.ops.sketchsimp.simplify()  # headless: says how to name the object
     mesh = bpy.data.objects.new("Mesh", bpy.data.meshes.new("Mesh"))
     bpy.context.scene.collection.objects.link(mesh)
     bpy.context.view_layer.objects.active = mesh
