@@ -22,6 +22,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -94,7 +95,7 @@ class Prepared:
     #: the input ink, whose width, pressure and style the lines carry (stage 6)
     ink: NearestInk
 
-    @property
+    @cached_property
     def drawing(self) -> list[np.ndarray]:
         """The drawing's strokes in the unit frame, without ink far away from it."""
         return drawing_strokes(self.unit, self.norm.box)
@@ -133,16 +134,14 @@ class SimplifyResult:
     complex: BaseComplex  # the initial base complex, unit frame
     state: ComplexState  # the simplified complex: alive curves and patches
     history: list[Merge]  # every merge applied, in order, with its cost
-    normalisation: Normalisation
-    cleaning: CleaningReport
     counts: dict[str, dict[str, int]]
     timings: dict[str, float]
     stats: AgglomerationStats | None = None
     #: for each stroke of :attr:`cleaned`, the output stroke that draws most of it (-1:
     #: none): the grouping the lines made, to measure against labels
     groups: np.ndarray | None = None
-    _input: Sketch | None = field(default=None, repr=False)
-    _ink: NearestInk | None = field(default=None, repr=False)
+    #: the cleaned input in its unit frame, which a replay draws its lines from again
+    _prepared: Prepared | None = field(default=None, repr=False)
     _memo: StrokeMemo = field(default_factory=StrokeMemo, repr=False)  # shared by .at()
     #: the merge loop's whole record, where it ran on past ``params.epsilon`` (``cover``)
     _recorded: list[Merge] | None = field(default=None, repr=False)
@@ -164,7 +163,17 @@ class SimplifyResult:
     def cleaned(self) -> Sketch:
         """The input as simplified: cleaned of non-finite points, duplicates and strokes
         of one point, in the input's coordinates (each stroke keeps its ids)."""
-        return self._input
+        return self._prepared.cleaned
+
+    @property
+    def normalisation(self) -> Normalisation:
+        """The drawing's unit frame: to and from the input's coordinates."""
+        return self._prepared.norm
+
+    @property
+    def cleaning(self) -> CleaningReport:
+        """What cleaning dropped or mended."""
+        return self._prepared.report
 
     @property
     def bundle_width(self) -> float:
@@ -177,13 +186,12 @@ class SimplifyResult:
         ``picture`` (debug pictures, ``scripts/pen_passes.py``). The stage is a function of
         the complex, the params and the strokes alone, so these are the lines a pen-stage
         run made."""
-        return lines_from_pen(self.state, self.params.resolved(), self._ink.unit_points,
+        return lines_from_pen(self.state, self.params.resolved(), self._prepared.unit,
                               picture=picture)
 
     def to_sketch(self) -> Sketch:
-        src = self._input
-        return Sketch(list(self.strokes), src.width if src else None,
-                      src.height if src else None)
+        src = self.cleaned
+        return Sketch(list(self.strokes), src.width, src.height)
 
     def at(self, epsilon: float) -> SimplifyResult:
         """The result ``simplify`` gives at another ``epsilon`` up to :attr:`covers`, by
@@ -196,9 +204,7 @@ class SimplifyResult:
         state = _replayed(self.complex, record, replace(self.params, epsilon=epsilon))
         params = replace(self.params, epsilon=epsilon)
         timings = {"replay": time.perf_counter() - t0}
-        prepared = Prepared(self._input, self.cleaning, self._ink.unit_points,
-                            self.normalisation, self._ink)
-        out = _finish(prepared, self.complex, state, record[:state.merges_applied], params,
+        out = _finish(self._prepared, self.complex, state, record[:state.merges_applied], params,
                       None, timings, self._memo)
         out._recorded, out._covers = record, self.covers
         return out
@@ -252,7 +258,7 @@ def _finish(prepared: Prepared, cx: BaseComplex, state: ComplexState, history: l
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
     ink, norm, sketch = prepared.ink, prepared.norm, prepared.cleaned
-    pen = lines_from_pen(state, params.resolved(), ink.unit_points, memo)
+    pen = lines_from_pen(state, params.resolved(), prepared.unit, memo)
     fitted = pen.work.fitted
     timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
     t1 = time.perf_counter()
@@ -268,8 +274,8 @@ def _finish(prepared: Prepared, cx: BaseComplex, state: ComplexState, history: l
         "before": _counts(cx.num_nodes, cx.num_curves, cx.num_patches, len(sketch.strokes)),
         "after": _counts(nodes_after, state.num_curves, state.num_patches, len(strokes)),
     }
-    return SimplifyResult(strokes, params, cx, state, history, norm, prepared.report, counts,
-                          timings, stats, pen.work.groups, sketch, ink, memo)
+    return SimplifyResult(strokes, params, cx, state, history, counts, timings, stats,
+                          pen.work.groups, prepared, memo)
 
 
 def simplify(sketch: Sketch, params: SimplifyParams | None = None,
