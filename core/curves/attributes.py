@@ -66,7 +66,7 @@ class NearestInk:
         # one increasing "running arc length" over all strokes, a gap of 1 between them
         offset = np.concatenate([[0.0], np.cumsum([x[-1] + 1.0 for x in s])[:-1]])
         self.running = np.concatenate([x + o for x, o in zip(s, offset)])
-        self.segments = Segments.of(unit_points)  # also what a cross-section meets (placement)
+        self.segments = Segments.of(unit_points)
         self.values = {name: self._stack(name) for name in ("width", "pressure")}
         # what each output polyline took, by content: a slider's replays share most strokes
         # (bounded, and a value depends on its key alone: see core.curves.memo)
