@@ -262,13 +262,12 @@ def whole_lines(output: list[np.ndarray], reference: list[np.ndarray], diagonal:
     1.0
     """
     points, which, _ = _samples(reference, 0.001 * diagonal)
-    lines = _lines(output)
-    if not len(points) or not len(lines):
+    if not len(points) or not any(len(p) >= 2 for p in output):
         return 0.0
     tol = tol_share * diagonal
     total = np.bincount(which, minlength=len(reference))
     needed = share * total[:, np.newaxis]
-    whole = (_near_counts(points, which, lines, len(reference), tol) >= needed).any(axis=1)
+    whole = _whole_curves(points, which, len(reference), output, tol, share)
     if twins:
         own = np.asarray([k for k, p in enumerate(reference) if len(p) >= 2])
         along = _near_counts(points, which, _lines(reference), len(reference), tol,
@@ -276,6 +275,19 @@ def whole_lines(output: list[np.ndarray], reference: list[np.ndarray], diagonal:
         whole = whole | (along & whole[own][np.newaxis, :]).any(axis=1)
     curves = total > 0
     return float(whole[curves].mean())
+
+
+def _whole_curves(points: np.ndarray, which: np.ndarray, n_curves: int,
+                  output: list[np.ndarray], tol: float, share: float) -> np.ndarray:
+    """For each of ``n_curves`` reference curves (its samples ``points``, labelled
+    ``which``), whether at least ``share`` of them lie within ``tol`` of ONE output stroke
+    (:func:`whole_lines`' test, curve by curve)."""
+    lines = _lines(output)
+    if not len(points) or not len(lines):
+        return np.zeros(n_curves, bool)
+    total = np.bincount(which, minlength=n_curves)
+    return (_near_counts(points, which, lines, n_curves, tol)
+            >= share * total[:, np.newaxis]).any(axis=1)
 
 
 def _near_counts(points: np.ndarray, which: np.ndarray, lines: np.ndarray, n_curves: int,
@@ -552,9 +564,5 @@ def close_parallels_whole(output: list[np.ndarray], reference: list[np.ndarray],
     close = np.flatnonzero((counts >= share * total[:, np.newaxis]).any(axis=1) & (total > 0))
     if not len(close):
         return float("nan")
-    lines = _lines(output)
-    if not len(lines):
-        return 0.0
-    whole = (_near_counts(points, which, lines, len(reference), 0.006 * diagonal)
-             >= 0.8 * total[:, np.newaxis]).any(axis=1)
-    return float(whole[close].mean())
+    return float(_whole_curves(points, which, len(reference), output, 0.006 * diagonal,
+                               0.8)[close].mean())  # whole_lines' own tolerance and share
