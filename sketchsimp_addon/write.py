@@ -11,7 +11,7 @@ from .gp_io import grease_pencil_data, read_drawing, write_strokes
 from .records import DrawingResult
 
 __all__ = [
-    "key_visibility", "visible_spans", "write_curves",
+    "as_drawn_besides", "key_visibility", "visible_spans", "write_curves",
     "earlier_result", "FILL_MATERIAL", "fill_materials", "HOLE_MATERIAL", "keep_in_view",
     "layer_to_world", "LOOK", "match_parent", "new_layer_like", "place_above", "result_name",
     "write_curve_result", "write_fills", "write_frames", "write_results",
@@ -226,8 +226,7 @@ def write_curves(obj, options, results: list[DrawingResult], context):
         shown = [(r.new, [f.frame_number for f in r.frames]) for r in rs]
         if hide:
             done = {n for _, numbers in shown for n in numbers}
-            shown += [(NewStrokes.as_drawn(read_drawing(f.drawing)), [f.frame_number])
-                      for f in layer.frames if f.frame_number not in done]
+            shown += [(new, [number]) for number, new in as_drawn_besides(layer, done)]
         shown = [(new, numbers) for new, numbers in shown if new.knots]  # empty: nothing
         name = f"{obj.name} {layer.name} simplified"
         shot = len(keys) > 1
@@ -305,11 +304,15 @@ def keep_in_view(source, dest) -> None:
     """Give ``dest`` (the result layer of a hidden source) a copy of each of the source's
     keyframes it has no keyframe at, as drawn: a keyframe outside the frame range, or not
     reached before a cancel, shows what it showed, never nothing nor a later result."""
-    have = {f.frame_number for f in dest.frames}
-    for frame in source.frames:
-        if frame.frame_number not in have:
-            write_strokes(dest.frames.new(frame.frame_number).drawing,
-                          NewStrokes.as_drawn(read_drawing(frame.drawing)))
+    for number, new in as_drawn_besides(source, {f.frame_number for f in dest.frames}):
+        write_strokes(dest.frames.new(number).drawing, new)
+
+
+def as_drawn_besides(source, written: set[int]) -> list[tuple[int, NewStrokes]]:
+    """Each keyframe of the layer ``source`` not among the frame numbers ``written``, with
+    its strokes as drawn: what a result shows there when the source is hidden."""
+    return [(f.frame_number, NewStrokes.as_drawn(read_drawing(f.drawing)))
+            for f in source.frames if f.frame_number not in written]
 
 
 def write_fills(gp, results: list[DrawingResult]) -> dict:
