@@ -128,9 +128,9 @@ def interleaved(arms: dict[str, tuple[Path, dict]], path: str, steps: bool) -> d
             rounds[name].append(probe(root, path, options, steps))
     best = {}
     for name, rows in rounds.items():
-        ok = [r for r in rows if "error" in r] or rows
-        if "error" in ok[0]:
-            best[name] = ok[0]
+        failed = [r for r in rows if "error" in r]
+        if failed:  # a run that failed is reported, not timed
+            best[name] = failed[0]
             continue
         best[name] = {key: min(r[key] for r in rows) for key in ("fresh", "step", "peak_mb")}
         best[name]["strokes"] = rows[0]["strokes"]
