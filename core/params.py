@@ -11,42 +11,11 @@ from .arrays.geometry import Segments, tangents
 from .arrays.polylines import resample_each, split, total_lengths
 from .sketch import SketchError
 
-__all__ = ["EPSILON_SOFT_MAX", "FILL_GAP_SHARE", "INK_CELL", "LOOSE_ALPHA",
-           "MIN_ALPHA", "Tuning",
-           "PAPER_ALPHA", "SPACING_SHARE", "STROKE_SHARE", "SWAP_SHARE", "WIDEST_ALPHA",
-           "WIDE_BANDED", "WIDE_FROM", "SimplifyParams", "banded_shares", "ink_spacing"]
+__all__ = ["EPSILON_SOFT_MAX", "MIN_ALPHA", "PAPER_ALPHA", "SimplifyParams", "Tuning",
+           "banded_shares", "ink_spacing"]
 
 #: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
 PAPER_ALPHA = 0.012
-
-#: "auto" alpha is this many times the ink's spacing (:func:`ink_spacing`), between
-#: PAPER_ALPHA and LOOSE_ALPHA (see SimplifyParams.resolved)
-SPACING_SHARE = 1.5
-LOOSE_ALPHA = 0.015
-
-#: a sparse drawing whose ink's width (SPACING_SHARE times its spacing) is at least
-#: WIDE_FROM is first tried that wide, at most WIDEST_ALPHA, and the wider result kept only
-#: where it keeps the ink (SimplifyParams.widths, core.simplify.KEEP_REACH)
-WIDE_FROM = 0.02
-WIDEST_ALPHA = 0.03
-
-#: ... nor where more than this share of the ink lies in bands of lines that a bundle that
-#: wide cannot hold (:func:`banded_shares`: hatching, a spiral's arms)
-WIDE_BANDED = 0.1
-
-#: input ink runs along a section's line where the |cos| between them is at least this
-ALONG_COS = 0.9
-
-#: a band's passes wander across each other (one loose line, not hatching) where two lie
-#: over half the width to either side of each other, each side along at least this share
-#: of their way together (:func:`_swapping`)
-SWAP_SHARE = 0.2
-
-#: the cells, as a fraction of the drawing's diagonal, that :func:`ink_spacing` counts
-INK_CELL = 0.02
-
-#: "auto" alpha is at most this share of the median stroke length (see resolved)
-STROKE_SHARE = 0.5
 
 #: the narrowest bundle, given or "auto": 100 snapping grids (core.complex.noding.GRID).
 #: Output lines are sampled a quarter of the width apart, so a narrower one only
@@ -54,87 +23,218 @@ STROKE_SHARE = 0.5
 #: for 10^112 of them by the median-length cap, and failed
 MIN_ALPHA = 1e-4
 
-#: "auto" fill_gap is the ink's spacing, at most this share of d_eps (see resolved)
-FILL_GAP_SHARE = 0.7
 
 @dataclass(frozen=True)
 class Tuning:
-    """The tuned constants of the line stage (:mod:`core.lines`), in one place. Lengths are
-    multiples of the bundle width d_eps; each says why it is what it is. How each was
-    measured is in ``docs/decisions.md``.
+    """The tuned numbers of the pipeline, in one place: each field says what it decides and
+    where ``docs/decisions.md`` gives its measure (the entry named after ``decisions:``;
+    "Where each tuned number comes from" lists those set by reasoning alone). Fractions
+    of the diagonal are marked D; lengths in bundle widths, d_eps. A field is read for one
+    purpose, by the passes named.
 
-    cut_angle       a stroke is cut where it turns more than this (degrees) within
-                    cut_reach d_eps each side: a corner drawn in one motion is two lines
-    cut_reach       see cut_angle; 2: a corner drawn rounded (radius up to about 2 d_eps)
-                    is a corner too
-    follow_reach    a stroke's sample follows the complex's nearest alive curve within
-                    this (what merges keep lies within d_eps of what they removed)
-    follow_cos      ... running along it, |cos| at least this (30 degrees: the merge angle)
-    shared_share    two pieces that follow the same alive curves together are one line
-                    when they do along this share of the shorter one's length (summed
-                    over the curves: a long stroke follows many, each cut at a crossing)
-    shared_length   ... or this long
-    shared_gap      ... overlapping where they follow a curve, or at most this apart
-    member_share    a piece stays in its group when at least this share of it lies within
-                    member_reach of the group's fitted line (else it is split off): the
-                    trade-off between whole lines and doubled ones (docs/decisions.md)
-    member_reach    see member_share; 1.5: a loose pass lies up to d_eps off the middle
-                    (a stretch of ink farther than this from every line is made a line
-                    of its own: core.lines.orphans)
-    along_share     pass 5 joins two fitted lines when this share of the shorter lies
-                    within d_eps of the longer, running along it (doubled passes the
-                    merges left apart), where no clear band lies between their inks
-    join_reach      lines pass 5 pairs are joined (and pass 6 leaves a line out for a
-                    longer one) only where the joint line keeps each of them in place:
-                    join_share of each within this of it; 0.5: whole lines are judged
-                    within about half a bundle width, and two lines drawn close (a rim's
-                    nested ellipses, a box's doubled edge) would both move to a line
-                    between them
-    join_share      see join_reach; 0.8: a line kept whole by the joint line, as the
-                    clean-lines issue counts a whole line (80% of it within the reach)
-    apart           ... or where no other line lies within this many times the farthest
-                    move along half the joint line: passes of one loose line in open paper
-                    (StrokeAggregator's judging against the local spacing of lines)
-    bin             the centreline is fitted in bins this long along its spine ...
-    smooth          ... and its offsets smoothed by a Gaussian of this sigma
-    snap            an end within this of another line meets it (T and L junctions)
-    overshoot       an end that crosses another line and runs on past it at most this
-                    long is cut at the crossing: an overshoot, not a line drawn through
-    crumb           a line shorter than this whose every point lies within absorb_reach
-                    of a longer line is that line's (a hook at a stroke's end, a crumb
-                    at a junction): its pieces join that line's group; so is a longer
-                    one where no clear band lies between their inks (a loose pass)
-    absorb_reach    see crumb; 0.75: within the bundle width, with a margin
-    band_ratio      a band free of ink between two inks parts two lines where it is wider
-                    than the drawing's usual spacing of passes (fill_gap), or than this
-                    times the wider of the inks beside it (two tight bundles drawn close:
-                    the width is local, from the ink) ...
-    band_floor      ... and at least this wide (half the bundle width: two lines closer
-                    than that, fitted as one between them, each lie within a quarter of
-                    d_eps of it; loose passes drawn a little apart stay one line)
+    Left with the code they bound: resource and precision limits (memo sizes, chunks,
+    snapping grids, file-size caps, :data:`MIN_ALPHA`), the paper's own values
+    (:data:`PAPER_ALPHA`, the Fourier samples, :class:`SimplifyParams`), and the drawing
+    frame that every fraction of D is of (:mod:`core.io.cleaning`: what the scorer's D is
+    too). Stable Across Frames (:mod:`core.stable`) is a pass between a shot's drawings,
+    not of one drawing's simplification: its numbers are its module's.
     """
 
+    # -- the width "auto" gives (SimplifyParams.resolved and widths) --
+    #: "auto" alpha is this many times the ink's spacing (:func:`ink_spacing`), between
+    #: PAPER_ALPHA and loose_alpha. decisions: "The auto width's bounds"
+    spacing_share: float = 1.5
+    #: the widest "auto" alpha kept whatever its result (D). decisions: "The auto width's
+    #: bounds"
+    loose_alpha: float = 0.015
+    #: a drawing whose ink's width (spacing_share times its spacing) is at least this (D)
+    #: is first tried that wide. decisions: "Wider where the ink allows"
+    wide_from: float = 0.02
+    #: ... at most this wide (D); each wider try is kept only where its result keeps the
+    #: ink (keep_reach). decisions: "Wider where the ink allows"
+    widest_alpha: float = 0.03
+    #: ... and not tried where more than this share of the ink lies in bands of lines a
+    #: bundle that wide cannot hold (:func:`banded_shares`: hatching, a spiral's arms).
+    #: decisions: "Wider where the ink allows"
+    wide_banded: float = 0.1
+    #: :func:`banded_shares` counts a pass crossing a section as running along its stroke
+    #: where the |cos| between them is at least this. decisions: "Wider where the ink allows"
+    band_cos: float = 0.9
+    #: a band's passes wander across each other (one loose line, not hatching) where two
+    #: lie over half the width to either side of each other, each side along at least this
+    #: share of their way together (:func:`_swapping`). decisions: "Wider where the ink
+    #: allows"
+    swap_share: float = 0.2
+    #: the cells that :func:`ink_spacing` counts (D). decisions: "The auto width's bounds"
+    ink_cell: float = 0.02
+    #: "auto" alpha is at most this share of the median stroke's length: a bundle is never
+    #: wider than half the strokes that make it are long. decisions: "Where each tuned
+    #: number comes from"
+    stroke_share: float = 0.5
+    #: "auto" fill_gap is the ink's spacing, at most this share of d_eps. decisions: "the
+    #: pen stage's join keeps each line whole"
+    fill_gap_share: float = 0.7
+
+    # -- a wider width's result kept (core.simplify) --
+    #: a wider width is kept where its result leaves at most keep_left of the drawing's ink
+    #: farther than this (D, or of the canvas's diagonal if smaller) from the output: the
+    #: measure ink kept, with a margin. decisions: "Wider where the ink allows"
+    keep_reach: float = 0.02
+    #: see keep_reach. decisions: "Wider where the ink allows"
+    keep_left: float = 0.01
+    #: ... nor more than this share of any one stroke: a short detail at an angle to a line
+    #: (a stem, a tick), which a wider width trims as a spur, is a small share of the ink.
+    #: decisions: "Wider where the ink allows"
+    keep_stroke: float = 0.1
+
+    # -- the merge (core.merge, paper 3.2) --
+    #: what a merge removes (a curve between two patches, a free curve) must lie within
+    #: this many d_eps of what stays (:mod:`core.merge.guard`). decisions: "Where each
+    #: tuned number comes from"
+    guard_reach: float = 0.25
+    #: two curves run side by side (a curve-curve pair, paper 3.2.2) where at least this
+    #: share of the shorter lies within d_eps of the longer. decisions: "Where each tuned
+    #: number comes from"
+    side_share: float = 0.5
+
+    # -- the lines (core.lines): pieces and groups --
+    #: a stroke is cut where it turns more than this (degrees) within cut_reach d_eps each
+    #: side: a corner drawn in one motion is two lines (pass 1). decisions: "the pen stage"
     cut_angle: float = 70.0
+    #: see cut_angle; 2: a corner drawn rounded (radius up to about 2 d_eps) is a corner too.
+    #: decisions: "the pen stage"
     cut_reach: float = 2.0
+    #: ink that comes back within follow_reach of a stroke's earlier ink, more than this
+    #: many follow_reach back along it, is the stroke drawn back over itself (a ring drawn
+    #: round twice): a new piece (pass 1). decisions: "Where each tuned number comes from"
+    back: float = 4.0
+    #: pieces and output lines are sampled this many d_eps apart (every pass). decisions:
+    #: "Where each tuned number comes from"
+    sample: float = 0.25
+    #: a stroke's sample follows the complex's nearest alive curve within this many d_eps
+    #: (what merges keep lies within d_eps of what they removed) (passes 1-2). decisions:
+    #: "the pen stage"
     follow_reach: float = 1.0
+    #: ... running along it: |cos| at least this (30 degrees, the merge angle); the same
+    #: test of "running along" wherever a pass asks it (passes 1, 2, 5, 8). decisions:
+    #: "the pen stage's join keeps each line whole"
     follow_cos: float = 0.866
+    #: two pieces that follow the same alive curves together are one line when they do
+    #: along this share of the shorter one's length (pass 3). decisions: "the pen stage"
     shared_share: float = 0.5
+    #: ... or this many d_eps long (pass 3). decisions: "the pen stage"
     shared_length: float = 2.0
+    #: ... overlapping where they follow a curve, or at most this many d_eps apart (pass 3).
+    #: decisions: "the pen stage"
     shared_gap: float = 1.0
+
+    # -- the lines: a group's fit (pass 4) and its checks --
+    #: a piece stays in its group when at least this share of it lies within member_reach
+    #: of the group's fitted line: the trade-off between whole lines and doubled ones.
+    #: decisions: "a page of drawings gives each the width it gets alone"
     member_share: float = 0.5
+    #: how far off the middle a loose pass lies, d_eps: a piece's ink within this of its
+    #: line is that line's (pass 4), farther from every line it is a line of its own (pass
+    #: 8). decisions: "a piece the fitted line leaves from its middle draws another line"
     member_reach: float = 1.5
-    along_share: float = 0.6
-    join_reach: float = 0.5
-    join_share: float = 0.8
-    apart: float = 3.0
+    #: a piece extends the spine at an end where it parts from it within this many
+    #: member_reach of that end (pass 4, :func:`core.lines.fit.centreline`). decisions:
+    #: "Where each tuned number comes from"
+    end_zone: float = 2.0
+    #: ... and a spine closes into a loop only when longer than this many member_reach.
+    #: decisions: "Where each tuned number comes from"
+    loop_length: float = 4.0
+    #: the centreline is fitted in bins this many d_eps long along its spine (passes 4, 8).
+    #: decisions: "ink no line stands for becomes a line"
     bin: float = 0.25
+    #: ... and its offsets smoothed by a Gaussian of this sigma, d_eps (passes 4, 8).
+    #: decisions: "one output stage, lines from the pen"
     smooth: float = 0.5
-    snap: float = 1.0
-    overshoot: float = 2.0
-    crumb: float = 3.0
-    absorb_reach: float = 0.75
+    #: a band free of ink between two inks parts two lines where it is wider than the
+    #: drawing's spacing of passes (fill_gap), or than this times the wider of the inks
+    #: beside it (two tight bundles drawn close: the width is local) (passes 4-6).
+    #: decisions: "groups split where a band free of ink runs all along them"
     band_ratio: float = 1.0
+    #: ... and at least this many d_eps wide: two lines closer than half the width, fitted
+    #: as one, each lie within a quarter of d_eps of it. decisions: "groups split where a
+    #: band free of ink runs all along them"
     band_floor: float = 0.5
+    #: a piece is judged by the band test where at least this many of its samples lie
+    #: beside the line (pass 4). decisions: "Where each tuned number comes from"
+    band_samples: int = 4
+    #: how far a line's own ink spreads from it: this percentile of its pieces' distances
+    #: to it (passes 5-6, :func:`core.lines.join.half_width`). decisions: "Where each tuned
+    #: number comes from"
+    spread_percentile: float = 90.0
+
+    # -- the lines: joins and absorbs (passes 5, 6) --
+    #: pass 5 joins two fitted lines when this share of the shorter lies within d_eps of
+    #: the longer, running along it, where no clear band lies between their inks.
+    #: decisions: "groups split where a band free of ink runs all along them"
+    along_share: float = 0.6
+    #: rounds of pass 5's judging at most: joined lines may pair again with their
+    #: neighbours. decisions: "the pen stage's join run until a round joins nothing"
+    join_rounds: int = 2
+    #: a join (pass 5) or an absorb (pass 6) stands where the joint line keeps each line in
+    #: place: join_share of each within this many d_eps of it; whole lines are judged within
+    #: about half a bundle width. decisions: "a line's end stretch drawn along another line"
+    join_reach: float = 0.5
+    #: see join_reach; 0.8: a line kept whole, as the scorer counts one. decisions: "the pen
+    #: stage's join keeps each line whole"
+    join_share: float = 0.8
+    #: ... or where no other line lies within this many times the farthest move ...
+    #: (StrokeAggregator's judging against the local spacing of lines). decisions: "a join
+    #: or an absorb stands where the joint line keeps the lines in place, or lies apart"
+    apart: float = 3.0
+    #: ... along at least this share of the joint line: passes of one loose line drawn in
+    #: open paper. decisions: "a join or an absorb stands where the joint line keeps the
+    #: lines in place, or lies apart"
+    apart_share: float = 0.5
+    #: a line shorter than this many d_eps is a crumb or a hook where every point lies
+    #: within absorb_reach of a longer line (pass 6), and is no line of its own where left
+    #: by its fit (passes 4, 8). decisions: "a piece the fitted line leaves from its middle"
+    crumb: float = 3.0
+    #: see crumb; within the bundle width, with a margin (pass 6). decisions: "a join or an
+    #: absorb stands where the joint line keeps the lines in place"
+    absorb_reach: float = 0.75
+
+    # -- the lines: ink no line stands for (pass 8) --
+    #: stretches of ink that parted from the lines are one line where this share of the
+    #: shorter lies within member_reach of the other. decisions: "ink no line stands for
+    #: becomes a line"
+    together_share: float = 0.5
+
+    # -- the lines: junctions (pass 9) --
+    #: an end within this many d_eps of another line meets it (T and L junctions; pass 8
+    #: leaves a new line's ends this close so that pass 9 meets them; pass 7's corners).
+    #: decisions: "one output stage, lines from the pen"
+    snap: float = 1.0
+    #: an end that crosses another line and runs on past it at most this many d_eps is cut
+    #: at the crossing: an overshoot, not a line drawn through. decisions: "one output
+    #: stage, lines from the pen"
+    overshoot: float = 2.0
+    #: the other line's direction at a junction is taken over this share of snap each side
+    #: of the foot: an end running along it meets nothing. decisions: "Where each tuned
+    #: number comes from"
+    meet_tangent: float = 0.25
+    #: a line no longer than this many overshoots is not trimmed (a short line crossing
+    #: another is drawn, not overshot). decisions: "Where each tuned number comes from"
+    trim_length: float = 2.0
+
+    # -- fills (SimplifyResult.fill_regions, core.curves.fills) --
+    #: regions smaller than this share of the drawing's box are crumbs, not regions to fill
+    #: (slivers between close lines are left out by their width: fill_close). decisions:
+    #: "fills are the regions the clean lines close"
+    fill_min_share: float = 1e-5
+    #: two output lines that stop within twice this many d_eps of each other close a region
+    #: (the gap a junction of the clean lines may leave). decisions: "fills are the regions
+    #: the clean lines close"
+    fill_close: float = 0.25
+    #: ... and a free end is carried on this many d_eps, to the first line it meets: a line
+    #: may stop up to about a bundle width short of the line it meets where pass 9 found no
+    #: junction, two lines meeting at a corner up to twice that. decisions: "fills are the
+    #: regions the clean lines close"
+    fill_reach: float = 2.0
 
 
 #: the top of epsilon's useful range (the add-on's slider ends here; beyond it drawings
@@ -171,14 +271,14 @@ class SimplifyParams:
                   between them may be one line drawn twice, and are joined where their
                   joint fit keeps both (:mod:`core.lines.join`, :mod:`core.lines.absorb`).
                   "auto" (default): the ink's spacing (:func:`ink_spacing`), at most
-                  :data:`FILL_GAP_SHARE` of d_eps; 0: never. A result's params hold the
+                  ``tuning.fill_gap_share`` of d_eps; 0: never. A result's params hold the
                   number used
     target_patches, target_curves   optional: also stop once this few remain
     max_curves    refuse a sketch whose strokes cross into more curves than this (None: no
                   limit): the largest real sketches make about 17,000, and one of 100,000
                   takes many minutes
     skip          names of pen passes to leave out, for ablations (:data:`core.lines.PASSES`)
-    tuning        the pen stage's tuned constants (:class:`Tuning`)
+    tuning        the pipeline's tuned numbers (:class:`Tuning`)
     """
 
     epsilon: float = 0.015
@@ -241,19 +341,19 @@ class SimplifyParams:
         :meth:`widths` tries, the one kept whatever its result.
 
         "auto" follows the ink when ``unit_strokes`` (the drawing's strokes in the unit
-        frame, without ink far away) are given: :data:`SPACING_SHARE` times their spacing
-        (:func:`ink_spacing`), no narrower than the paper's 0.012 and no wider than
-        :data:`LOOSE_ALPHA`. A sparse drawing, whose passes lie far apart for its size
+        frame, without ink far away) are given: ``tuning.spacing_share`` times their
+        spacing (:func:`ink_spacing`), no narrower than the paper's 0.012 and no wider than
+        ``tuning.loose_alpha``. A sparse drawing, whose passes lie far apart for its size
         (cartoons, handwriting, test drawings), gets a wider bundle; a dense one (product
         sketches: many close construction lines) keeps the paper's. (How each bound was
         measured: ``docs/decisions.md``, "The auto width's bounds".)
 
-        Then never more than :data:`STROKE_SHARE` of the median length of the strokes (nor
+        Then never more than ``tuning.stroke_share`` of the median length of the strokes (nor
         less than :data:`MIN_ALPHA`): a bundle is never wider than half the strokes that
         make it are long. Where a drawing is many small parts spread wide, the width
         follows the parts, not the spread.
 
-        "auto" fill_gap is the ink's spacing, at most :data:`FILL_GAP_SHARE` of d_eps
+        "auto" fill_gap is the ink's spacing, at most ``tuning.fill_gap_share`` of d_eps
         (without strokes, that share of d_eps): a band free of ink wider than the drawing's
         usual distance between passes is the space between two lines, not a gap inside a
         bundle.
@@ -277,15 +377,15 @@ class SimplifyParams:
 
     def widths(self, unit_strokes: list[np.ndarray] | None = None) -> list[SimplifyParams]:
         """The resolved params that :func:`core.simplify` tries, widest first: the last is
-        :meth:`resolved`'s (at most :data:`LOOSE_ALPHA`), kept whatever its result; before
-        it, for a sparse drawing under "auto" alpha whose ink's width (:data:`SPACING_SHARE`
-        times its spacing, at most :data:`WIDEST_ALPHA` and the median-length cap) is at
-        least :data:`WIDE_FROM`, that width and the one halfway down to LOOSE_ALPHA, each
-        unless more than :data:`WIDE_BANDED` of the ink lies in bands of lines a bundle that
-        wide cannot hold (:func:`banded_shares`), and each kept only where its result keeps
-        the ink (:data:`core.simplify.KEEP_REACH`).
+        :meth:`resolved`'s (at most ``tuning.loose_alpha``), kept whatever its result;
+        before it, for a sparse drawing under "auto" alpha whose ink's width
+        (``tuning.spacing_share`` times its spacing, at most ``tuning.widest_alpha`` and the
+        median-length cap) is at least ``tuning.wide_from``, that width and the one halfway
+        down to loose_alpha, each unless more than ``tuning.wide_banded`` of the ink lies in
+        bands of lines a bundle that wide cannot hold (:func:`banded_shares`), and each kept
+        only where its result keeps the ink (``tuning.keep_reach``).
 
-        Why tried and checked: a loose drawing's passes lie farther apart than LOOSE_ALPHA
+        Why tried and checked: a loose drawing's passes lie farther apart than loose_alpha
         (two passes 3% of the diagonal apart along a long line are one line drawn twice),
         but a fixed cap above it merged the spiral test drawings' distinct arms and lost
         their ink (kept 0.92 at 2%). Lines a width cannot hold as one bundle (hatching, a
@@ -308,35 +408,38 @@ class SimplifyParams:
                 ) -> list[SimplifyParams]:
         if self.alpha != "auto" and self.fill_gap != "auto":
             return [self]
-        spacing = ink_spacing(unit_strokes) if unit_strokes else None
+        t = self.tuning
+        spacing = ink_spacing(unit_strokes, t.ink_cell) if unit_strokes else None
         alphas = [self.alpha]
         if self.alpha == "auto":
             alphas = [PAPER_ALPHA]
             if unit_strokes:
-                cap = STROKE_SHARE * float(np.median(total_lengths(unit_strokes)))
-                wide = min(SPACING_SHARE * spacing, WIDEST_ALPHA, cap)
-                alphas = [max(min(max(SPACING_SHARE * spacing, PAPER_ALPHA), LOOSE_ALPHA, cap),
-                              MIN_ALPHA)]
-                if wider and wide >= WIDE_FROM:
-                    tries = [wide, (wide + LOOSE_ALPHA) / 2]
-                    alphas = [w for w, banded in zip(tries, banded_shares(unit_strokes, tries))
-                              if banded <= WIDE_BANDED] + alphas
+                cap = t.stroke_share * float(np.median(total_lengths(unit_strokes)))
+                wide = min(t.spacing_share * spacing, t.widest_alpha, cap)
+                alphas = [max(min(max(t.spacing_share * spacing, PAPER_ALPHA), t.loose_alpha,
+                                  cap), MIN_ALPHA)]
+                if wider and wide >= t.wide_from:
+                    tries = [wide, (wide + t.loose_alpha) / 2]
+                    alphas = [w for w, banded in zip(tries, banded_shares(unit_strokes, tries,
+                                                                           t))
+                              if banded <= t.wide_banded] + alphas
         return [replace(self, alpha=alpha, fill_gap=self._fill_gap(alpha, spacing))
                 for alpha in alphas]
 
     def _fill_gap(self, alpha: float, spacing: float | None) -> float:
         if self.fill_gap != "auto":
             return self.fill_gap
-        fill_gap = FILL_GAP_SHARE * alpha
+        fill_gap = self.tuning.fill_gap_share * alpha
         return fill_gap if spacing is None else min(spacing, fill_gap)
 
     def as_dict(self) -> dict:
         return asdict(self)
 
 
-def ink_spacing(unit_strokes: list[np.ndarray]) -> float:
-    """How far apart the ink lies, in the unit frame: the area the ink occupies (cells of
-    :data:`INK_CELL` holding any of it) over its length. One line through empty space
+def ink_spacing(unit_strokes: list[np.ndarray], cell_size: float = Tuning.ink_cell
+                ) -> float:
+    """How far apart the ink lies, in the unit frame: the area the ink occupies (cells
+    ``cell_size`` wide holding any of it) over its length. One line through empty space
     gives about the cell size; passes drawn side by side share cells and give less; many
     close lines (a product sketch's construction lines, hatching) give much less. It
     depends on the drawing alone, not on where it lies or how big it is (the unit frame),
@@ -347,21 +450,22 @@ def ink_spacing(unit_strokes: list[np.ndarray]) -> float:
     >>> round(ink_spacing([np.hstack([t, 0.5 + 0 * t])]), 3)  # a line: its cells' width
     0.02
     """
-    points, _ = resample_each(unit_strokes, INK_CELL / 8)
+    points, _ = resample_each(unit_strokes, cell_size / 8)
     length = float(total_lengths(unit_strokes).sum())
     if length <= 0:
         return 0.0
-    cell = np.floor(points / INK_CELL).astype(np.int64)
+    cell = np.floor(points / cell_size).astype(np.int64)
     cell -= cell.min(axis=0)
     cells = len(np.unique(cell[:, 0] * (int(cell[:, 1].max()) + 1) + cell[:, 1]))
-    return cells * INK_CELL ** 2 / length
+    return cells * cell_size ** 2 / length
 
 
-def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[float]:
+def banded_shares(unit_strokes: list[np.ndarray], widths: list[float],
+                  tuning: Tuning = Tuning()) -> list[float]:
     """For each width: the share of the ink, in the unit frame, that a bundle that wide
     cannot hold. That is where the section square to a stroke (every quarter of the
-    width, twice the width each side) meets passes running along it (within about 26
-    degrees) chained by gaps of at most the width into a band wider than it, unless the
+    width, twice the width each side) meets passes running along it (|cos| at least
+    ``tuning.band_cos``) chained by gaps of at most the width into a band wider than it, unless the
     band's passes wander across each other (:func:`_swapping`). Hatching or a spiral's arms
     closer than the width are such bands, and a width this wide would merge their lines;
     the passes of one loose line drawn over and over are not, where they span no more
@@ -380,13 +484,14 @@ def banded_shares(unit_strokes: list[np.ndarray], widths: list[float]) -> list[f
     [0.0]
     """
     segments = Segments.of(unit_strokes)
-    return [_banded_share(unit_strokes, segments, width) for width in widths]
+    return [_banded_share(unit_strokes, segments, width, tuning) for width in widths]
 
 
-def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: float) -> float:
+def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: float,
+                  tuning: Tuning) -> float:
     points, counts = resample_each(unit_strokes, width / 4)
     tangent = np.concatenate([tangents(p) for p in split(points, counts)])
-    cross = segments.crossings(points, tangent, 2 * width, ALONG_COS)
+    cross = segments.crossings(points, tangent, 2 * width, tuning.band_cos)
     order = np.lexsort((cross.offset, cross.section))
     sec, offset, passing = cross.section[order], cross.offset[order], cross.polyline[order]
     if not len(sec):
@@ -407,14 +512,14 @@ def _banded_share(unit_strokes: list[np.ndarray], segments: Segments, width: flo
     in_band = chain == own_chain[sec]
     owner = np.repeat(np.arange(len(counts)), counts)
     banded[_swapping(owner[sec[in_band]], passing[in_band], offset[in_band], sec[in_band],
-                     width)] = False
+                     width, tuning.swap_share)] = False
     return float(banded.mean())
 
 
 def _swapping(owner: np.ndarray, passing: np.ndarray, offset: np.ndarray,
-              section: np.ndarray, width: float) -> np.ndarray:
+              section: np.ndarray, width: float, share: float) -> np.ndarray:
     """The sections, among those given, where another stroke in the band lies more than
-    half the width to one side of the section's stroke along at least :data:`SWAP_SHARE`
+    half the width to one side of the section's stroke along at least ``share``
     of the sections where they run together, and as far to the other side along as much.
 
     The passes of one loose line drawn over and over wander across each other and across
@@ -429,6 +534,7 @@ def _swapping(owner: np.ndarray, passing: np.ndarray, offset: np.ndarray,
         offset: (k,) the crossing's signed distance from the section's middle.
         section: (k,) the crossing's section.
         width: the bundle width tried.
+        share: see above (``Tuning.swap_share``).
 
     Returns:
         The sections (indices into the sections, possibly repeated) whose band swaps.
@@ -441,5 +547,5 @@ def _swapping(owner: np.ndarray, passing: np.ndarray, offset: np.ndarray,
     side = offset[other] / (width / 2)
     below = np.bincount(group, side <= -1)
     above = np.bincount(group, side >= 1)
-    swaps = np.minimum(below, above) >= SWAP_SHARE * np.bincount(group)
+    swaps = np.minimum(below, above) >= share * np.bincount(group)
     return section[other][swaps[group]]

@@ -1,20 +1,20 @@
 """The public entry point: ``simplify(sketch, params) -> SimplifyResult``.
 
-Under "auto" alpha a sparse drawing is tried wider than :data:`core.params.LOOSE_ALPHA`
-first (:meth:`SimplifyParams.widths`: its ink's own width, then halfway down, each unless
-its lines lie in bands that wide, passes that wander across each other being one loose
-line, not a band), and a wider result is kept only where it keeps the
-ink: at most :data:`KEEP_LEFT` of the drawing's ink, and :data:`KEEP_STROKE` of any one
-stroke, farther than :data:`KEEP_REACH` of its diagonal (or its canvas's, if smaller)
-from the output. It is judged at :data:`KEEP_EPSILON` whatever the epsilon asked, so that
-the width is the drawing's and every epsilon replays one merge history. Otherwise the
-narrow width's result.
+Under "auto" alpha a sparse drawing is tried wider than ``tuning.loose_alpha`` first
+(:meth:`SimplifyParams.widths`: its ink's own width, then halfway down, each unless its
+lines lie in bands that wide, passes that wander across each other being one loose line,
+not a band), and a wider result is kept only where it keeps the ink: at most
+``tuning.keep_left`` of the drawing's ink, and ``tuning.keep_stroke`` of any one stroke,
+farther than ``tuning.keep_reach`` of its diagonal (or its canvas's, if smaller) from the
+output. It is judged at :data:`KEEP_EPSILON` whatever the epsilon asked, so that the width
+is the drawing's and every epsilon replays one merge history. Otherwise the narrow
+width's result.
 
 How the wider widths were measured (190 sketches, with the complex stage then the
 default): ``docs/decisions.md``, "Wider where the ink allows (moved from core.simplify)".
 
 Invariants: a drawing that is not sparse, or whose alpha is a number, is simplified once,
-as before; a wider result is never kept that leaves more ink out than KEEP_LEFT.
+as before; a wider result is never kept that leaves more ink out than keep_left.
 """
 
 from __future__ import annotations
@@ -45,36 +45,11 @@ from .io.cleaning import (
 from .lines import PenRun, lines_from_pen
 from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
-from .params import SimplifyParams
+from .params import SimplifyParams, Tuning
 from .sketch import Region, Sketch, SketchError, Stroke
-
-#: a wider "auto" width is kept where its result leaves at most KEEP_LEFT of the drawing's
-#: ink (sampled every KEEP_REACH / 8) farther than KEEP_REACH from the output, in the
-#: smaller of the drawing's and the canvas's diagonal: the measure ink kept, with a margin
-KEEP_REACH = 0.02
-KEEP_LEFT = 0.01
-
-#: nor more than this share of any one stroke: a short detail at an angle to a line (a
-#: stem, a tick), which the wider width trims as a spur, is a small share of the ink
-KEEP_STROKE = 0.1
 
 #: the epsilon at which a wider width is judged: the default one
 KEEP_EPSILON = SimplifyParams.epsilon
-
-#: regions smaller than this share of the drawing's box are crumbs, not regions to fill
-#: (slivers between close lines are left out by their width: FILL_CLOSE); at 1e-3, the
-#: share the complex's patches needed, a pupil 3% of the drawing across was left out
-FILL_MIN_SHARE = 1e-5
-
-#: fills: two output lines that stop within twice this many bundle widths of each other
-#: close a region (the gap a junction of the clean lines may leave)
-FILL_CLOSE = 0.25
-
-#: ... and a free end is carried on this many bundle widths, to the first line it meets
-#: (:func:`core.curves.fills.extensions`): a line may stop up to about a bundle width
-#: short of the line it meets where pass 9 found no junction, two lines meeting at a
-#: corner up to twice that
-FILL_REACH = 2.0
 
 #: fills follow each output Bezier this many steps a cubic
 FILL_SAMPLES = 16
@@ -209,24 +184,27 @@ class SimplifyResult:
         out._recorded, out._covers = record, self.covers
         return out
 
-    def fill_regions(self, min_share: float = FILL_MIN_SHARE) -> list[Region]:
+    def fill_regions(self, min_share: float | None = None) -> list[Region]:
         """The closed regions of the clean lines to fill, as plain rings (input
         coordinates), largest first (:func:`core.curves.fills.line_regions`): the white
         spaces the output strokes enclose, where two lines that stop within
-        ``2 * FILL_CLOSE`` bundle widths of each other close a region, leaving out slivers
-        smaller than ``min_share`` of the area of the drawing's box. A region lying inside
+        twice ``tuning.fill_close`` bundle widths of each other close a region, leaving out
+        slivers smaller than ``min_share`` (default ``tuning.fill_min_share``) of the area of
+        the drawing's box. A region lying inside
         another (touching it nowhere) is a hole of it, and is filled only inside a hole in
         turn (the even-odd rule of vector art: a ring's hole stays empty, a face's eyes
         are cut out of it, a pupil inside an eye is filled); regions side by side are
         each filled."""
+        t = self.params.tuning
+        min_share = t.fill_min_share if min_share is None else min_share
         smallest = min_share * 0.5 * self.normalisation.scale ** 2  # box of diagonal D
         # the curves as drawn, not the chords between a stroke's points (which sample its
         # Bezier coarsely), so that a fill reaches the line all round
         drawn = [s.points if s.bezier is None else sample_bezier(s.bezier, FILL_SAMPLES)
                  for s in self.strokes]
         return line_regions(drawn, [s.closed for s in self.strokes],
-                            FILL_CLOSE * self.bundle_width, smallest,
-                            FILL_REACH * self.bundle_width)
+                            t.fill_close * self.bundle_width, smallest,
+                            t.fill_reach * self.bundle_width)
 
     def regions(self) -> list[shapely.Polygon]:
         """The patches left, as polygons in input coordinates (what a fill can use), with
@@ -360,14 +338,15 @@ def _wider_kept(prepared: Prepared, cx: BaseComplex, wider: list[SimplifyParams]
     if not wider:
         return None
     cleaned, norm = prepared.cleaned, prepared.norm
-    reach = KEEP_REACH * min(1.0, np.hypot(cleaned.width, cleaned.height) / norm.scale
-                             if cleaned.width and cleaned.height else 1.0)
+    t = wider[0].tuning
+    reach = t.keep_reach * min(1.0, np.hypot(cleaned.width, cleaned.height) / norm.scale
+                               if cleaned.width and cleaned.height else 1.0)
     drawing = prepared.drawing
     for wide in wider:
         run = _run(prepared, cx, replace(wide, epsilon=max(wide.epsilon, KEEP_EPSILON)),
                    timings, cover)
         judged = run if run.params.epsilon == KEEP_EPSILON else run.at(KEEP_EPSILON)
-        if _keeps_ink(drawing, [norm.to_unit(s.points) for s in judged.strokes], reach):
+        if _keeps_ink(drawing, [norm.to_unit(s.points) for s in judged.strokes], reach, t):
             return run if wide.epsilon == run.params.epsilon else run.at(wide.epsilon)
     return None
 
@@ -391,29 +370,29 @@ def _run(prepared: Prepared, cx: BaseComplex, params: SimplifyParams,
     return out
 
 
-def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float) -> bool:
+def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float,
+               tuning: Tuning) -> bool:
     """Whether ``lines`` keep the ink of ``drawing`` (unit-frame polylines, sampled every
-    reach / 8): at most :data:`KEEP_LEFT` of it, and at most :data:`KEEP_STROKE` of any
-    one stroke, farther than ``reach`` from every line.
+    reach / 8): at most ``tuning.keep_left`` of it, and at most ``tuning.keep_stroke`` of
+    any one stroke, farther than ``reach`` from every line.
 
     >>> x = np.linspace(0, 1, 11)[:, None]
     >>> ink = [np.hstack([x, 0 * x]), np.hstack([x, 0.03 + 0 * x])]
-    >>> _keeps_ink(ink, [np.hstack([x, 0.015 + 0 * x])], 0.02)  # both within 0.015
+    >>> _keeps_ink(ink, [np.hstack([x, 0.015 + 0 * x])], 0.02, Tuning())  # both within 0.015
     True
-    >>> _keeps_ink(ink, [ink[0]], 0.02)  # the other pass left out
+    >>> _keeps_ink(ink, [ink[0]], 0.02, Tuning())  # the other pass left out
     False
     >>> tick = np.array([[0.5, 0.0], [0.5, 0.03]])  # 3% long, a third of it left out
-    >>> _keeps_ink(ink[:1] * 9 + [tick], [ink[0]], 0.02)
+    >>> _keeps_ink(ink[:1] * 9 + [tick], [ink[0]], 0.02, Tuning())
     False
     """
     lines = [line for line in lines if len(line) >= 2]
     if not lines:
         return False
     reached = Reached.of(drawing, lines, reach, reach / 8)
-    return bool(1 - reached.near().mean() <= KEEP_LEFT
-                and 1 - reached.shares().min() <= KEEP_STROKE)
+    return bool(1 - reached.near().mean() <= tuning.keep_left
+                and 1 - reached.shares().min() <= tuning.keep_stroke)
 
 
-__all__ = ["FILL_CLOSE", "FILL_MIN_SHARE", "FILL_REACH", "FILL_SAMPLES", "KEEP_EPSILON",
-           "KEEP_LEFT", "KEEP_REACH", "KEEP_STROKE", "Prepared", "SimplifyResult",
+__all__ = ["FILL_SAMPLES", "KEEP_EPSILON", "Prepared", "SimplifyResult",
            "build_complex", "from_record", "prepare", "simplify"]

@@ -41,11 +41,10 @@ import numpy as np
 
 from .arrays.geometry import Reached, Segments, tangents_each
 from .arrays.polylines import resample_polyline
-from .params import ALONG_COS
 from .sketch import Stroke
 
-__all__ = ["DAMPING", "HELD", "MISSED", "PART", "ROUNDS", "STILL", "Carried", "Motion",
-           "carried", "held_to", "motion_onto"]
+__all__ = ["DAMPING", "HELD", "MISSED", "PART", "ROUNDS", "RUNNING_COS", "STILL", "Carried",
+           "Motion", "carried", "held_to", "motion_onto"]
 
 #: a previous stroke with more than this share of it off the new result is not kept
 MISSED = 0.05
@@ -60,6 +59,8 @@ STILL = 0.075
 #: than this (and the ink agrees, see the module): redrawn in place, most single strokes'
 #: fits move up to a fifth of the width
 PART = 0.25
+#: a new stroke's point is drawn by a kept stroke that runs along it: |cos| at least this
+RUNNING_COS = 0.9
 #: fits of the motion, each from where the last took the strokes: a drawing moved about the
 #: bundle width in a key is followed to within a hundredth of it in three
 ROUNDS = 3
@@ -136,7 +137,7 @@ def _feet(points: np.ndarray, tangent: np.ndarray, lines: Segments, reach: float
     :func:`tangents_each`) have a line of ``lines`` running along them within ``reach``;
     the nearest point of such a line to each of them, and that line's unit normal there.
     One tree query for them all."""
-    i, seg = lines.running_along(points, tangent, reach, ALONG_COS)
+    i, seg = lines.running_along(points, tangent, reach, RUNNING_COS)
     if not len(i):
         return np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros((0, 2))
     foot = lines.foot(seg, lines.along(seg, points[i]))

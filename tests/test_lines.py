@@ -15,6 +15,7 @@ from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
 from core.arrays.geometry import project_on
 from core.arrays.polylines import resample_polyline
 from core.lines import PASSES
+from core.params import Tuning
 from core.sketch import SketchError
 
 CANVAS = 500.0
@@ -251,8 +252,6 @@ def test_params_with_the_pen_stage_travel_as_plain_data_and_come_back_equal():
     # a batch sends params to a cluster's workers as a dict, or as JSON
     import json
 
-    from core.params import Tuning
-
     params = SimplifyParams(skip=("junctions",), tuning=Tuning(snap=0.5))
     assert SimplifyParams(**params.as_dict()) == params
     assert SimplifyParams(**json.loads(json.dumps(params.as_dict()))) == params
@@ -306,8 +305,8 @@ def test_a_stroke_skipped_as_unable_to_come_back_is_cut_as_the_query_would_cut_i
         arc = 20 * np.stack([np.cos(t), np.sin(t)], axis=1) * (1 + 0.005 * t[:, None])
         strokes.append(resample_polyline(arc + rng.normal(0, 0.05, arc.shape), 0.5))
     cut = [pieces.cut_where_it_returns(p, 2.0, 0.8) for p in strokes]
-    skipped = sum(pieces._cannot_return(p) for p in strokes)
-    monkeypatch.setattr(pieces, "_cannot_return", lambda points: False)
+    skipped = sum(pieces._cannot_return(p, Tuning.back) for p in strokes)
+    monkeypatch.setattr(pieces, "_cannot_return", lambda points, back: False)
     asked = [pieces.cut_where_it_returns(p, 2.0, 0.8) for p in strokes]
     assert 3 <= skipped < 50 and sum(len(c) > 1 for c in asked) > 10
     assert all(len(a) == len(b) and all(x.tobytes() == y.tobytes() for x, y in zip(a, b))

@@ -16,7 +16,7 @@ from core.complex.patch_rings import (
     union_outline_points,
     union_rings,
 )
-from core.merge.agglomeration import GUARD_REACH, Agglomerator
+from core.merge.agglomeration import Agglomerator
 from core.merge.guard import DistanceGuard
 from core.params import SimplifyParams
 
@@ -151,8 +151,8 @@ def test_each_curves_cover_is_every_curve_near_all_its_samples():
 
 @pytest.mark.parametrize("seed", range(3))
 def test_the_agglomerations_guard_measures_at_its_reach_and_samples_at_the_bundle_width(seed):
-    """The merge loop's guard reaches GUARD_REACH d_eps: it agrees with the brute force at
-    that reach, samples the curves as at d_eps (where curve-curve pairing shares them), and
+    """The merge loop's guard reaches ``tuning.guard_reach`` d_eps: it agrees with the brute
+    force at that reach, samples the curves as at d_eps (where curve-curve pairing shares them), and
     lets fewer removals through than a guard reaching d_eps."""
     rng = np.random.default_rng(seed)
     strokes = [np.cumsum(rng.normal(0, 0.05, (10, 2)), axis=0) + rng.uniform(0, 0.3, 2)
@@ -160,7 +160,7 @@ def test_the_agglomerations_guard_measures_at_its_reach_and_samples_at_the_bundl
     cx = build_base_complex(strokes)
     params = SimplifyParams(alpha=0.02)
     guard = Agglomerator(cx, params).guard
-    reach = GUARD_REACH * params.alpha
+    reach = params.tuning.guard_reach * params.alpha
     assert guard.reach == reach
     wide = DistanceGuard(cx.curves, lines_from(cx.curves), params.alpha, cx.curve_nodes,
                          cx.node_curves, params.alpha)

@@ -19,7 +19,9 @@ from test_base_complex import overshooting_side, short_crossing
 from core import Sketch, SketchError, Stroke, read_sketch, simplify, simplify_all, write_sketch
 from core.arrays.geometry import lines_from
 from core.curves.bezier import sample_bezier
-from core.params import LOOSE_ALPHA, MIN_ALPHA, SimplifyParams, banded_shares
+from core.params import MIN_ALPHA, SimplifyParams, Tuning, banded_shares
+
+LOOSE_ALPHA = Tuning().loose_alpha
 
 
 def wobbly(a, b, offset, n=40, amplitude=0.0, phase=0.0):
@@ -509,7 +511,7 @@ def _rough_hatch(kind: str) -> list[np.ndarray]:
 @pytest.mark.parametrize("kind", ["twice", "ends crossing"])
 def test_a_rough_hatch_is_a_band_though_its_passes_cross_within_a_line_or_near_the_ends(kind):
     """Passes that cross each other are a loose line's only where they swap sides across
-    the band along a fifth of their way or more (SWAP_SHARE): a hatch line's two passes
+    the band along a fifth of their way or more (Tuning.swap_share): a hatch line's two passes
     stay within it, and neighbours crossing near their ends swap along about 5%. So 3%
     stays too wide a bundle for the hatch (fails if any crossing counts as a swap)."""
     assert banded_shares(_rough_hatch(kind), [0.03])[0] > 0.75
@@ -786,14 +788,14 @@ def test_fills_are_the_regions_the_clean_lines_close_and_stay_inside_them(name):
     were the merged complex's patches, bounded by the rough ink: slivers along the
     lines, while the house's walls and roof and 82% of the cup went unfilled."""
     from core.curves.fills import extensions
-    from core.simplify import FILL_CLOSE, FILL_REACH
+    tuning = Tuning()
 
     result = simplify(read_sketch(SAMPLES / f"{name}.scap"))
     drawn = [sample_bezier(s.bezier) if s.bezier is not None else s.points
              for s in result.strokes]
-    close = FILL_CLOSE * result.bundle_width
+    close = tuning.fill_close * result.bundle_width
     drawn += extensions(drawn, [s.closed for s in result.strokes],
-                        FILL_REACH * result.bundle_width, close)
+                        tuning.fill_reach * result.bundle_width, close)
     geoms = [shapely.LineString(p) for p in drawn]
     snaps = []  # an end within the closing gap of another line: joined to it
     for k, p in enumerate(drawn):
@@ -824,7 +826,7 @@ def test_fills_are_the_regions_the_clean_lines_close_and_stay_inside_them(name):
                            for r in result.fill_regions()])
     lines = shapely.MultiLineString([p for p in drawn if len(p) >= 2])
     far = shapely.distance(shapely.points(edge), lines)
-    assert far.max() <= 2 * FILL_CLOSE * result.bundle_width
+    assert far.max() <= 2 * tuning.fill_close * result.bundle_width
 
 
 def test_fills_follow_the_even_odd_rule_on_known_shapes():

@@ -38,12 +38,13 @@ class FittedStroke:
 
 
 def _smoothed(pts: np.ndarray, closed: bool, params: SimplifyParams) -> np.ndarray:
-    """A line sampled every d_eps / 4, smoothed between its corners by ``params.smoothing``
-    d_eps (a sigma of 4 * smoothing samples)."""
+    """A line sampled every ``tuning.sample`` d_eps, smoothed between its corners by
+    ``params.smoothing`` d_eps (a sigma of smoothing / sample samples)."""
     if params.smoothing <= 0:
         return pts
     corners = corner_indices(pts, params.corner_angle, params.alpha)
-    return smooth_between_corners(pts, 4 * params.smoothing, corners, closed)
+    return smooth_between_corners(pts, params.smoothing / params.tuning.sample, corners,
+                                  closed)
 
 
 def fit_lines(lines: list[np.ndarray], closed: list[bool], params: SimplifyParams,

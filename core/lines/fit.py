@@ -40,10 +40,11 @@ import shapely
 from ..arrays.components import component_labels
 from ..arrays.geometry import Segments, project_on, tangents
 from ..arrays.polylines import arc_lengths, gaussian_kernel, resample_polyline, smoothed_ring
+from ..params import Tuning
 from .work import Line, Work
 
 __all__ = ["absorb_lines", "along_pairs", "band_split", "centreline", "clear_band",
-           "components", "fit_group", "regroup", "run", "true_runs"]
+           "components", "fit_group", "fitted_centreline", "regroup", "run", "true_runs"]
 
 
 def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -57,10 +58,12 @@ def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(firsts.tolist(), lasts.tolist()))
 
 
-def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
-            ) -> tuple[np.ndarray, bool] | None:
+def _attach(spine: np.ndarray, piece: np.ndarray, reach: float, end_zone: float,
+            loop_length: float) -> tuple[np.ndarray, bool] | None:
     """The spine with ``piece`` attached (see the module), and whether it closed; None
-    where the piece does not run along it."""
+    where the piece does not run along it. The piece extends an end where it parts from
+    the spine within ``end_zone`` of it, and closes the spine where it comes back within
+    ``end_zone`` of the other end of a spine longer than ``loop_length``."""
     gap = np.maximum(0.0, np.maximum(piece.min(axis=0) - spine.max(axis=0),
                                      spine.min(axis=0) - piece.max(axis=0)))
     if np.hypot(*gap) > reach:  # their boxes lie farther apart than reach
@@ -78,28 +81,30 @@ def _attach(spine: np.ndarray, piece: np.ndarray, reach: float
         a, b = len(piece) - 1 - b, len(piece) - 1 - a
     closed = False
     out = spine
-    if b + 1 < len(piece) and t[b] >= length - 2 * reach:
+    if b + 1 < len(piece) and t[b] >= length - end_zone:
         back = np.flatnonzero(near[b + 1:])
         tail = piece[b + 1:b + 1 + back[0]] if len(back) else piece[b + 1:]
-        closed = bool(len(back) and t[b + 1 + back[0]] <= 2 * reach and length > 4 * reach)
+        closed = bool(len(back) and t[b + 1 + back[0]] <= end_zone and length > loop_length)
         out = np.concatenate([out, tail])
-    if a > 0 and t[a] <= 2 * reach and not closed:
+    if a > 0 and t[a] <= end_zone and not closed:
         back = np.flatnonzero(near[:a])
         head = piece[back[-1] + 1:a] if len(back) else piece[:a]
-        closed = bool(len(back) and t[back[-1]] >= length - 2 * reach and length > 4 * reach)
+        closed = bool(len(back) and t[back[-1]] >= length - end_zone
+                      and length > loop_length)
         out = np.concatenate([head, out])
     return out, closed
 
 
-def _spine(pieces: list[np.ndarray], reach: float, h: float
-           ) -> tuple[np.ndarray, bool]:
+def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
+           loop_length: float) -> tuple[np.ndarray, bool]:
     order = sorted(range(len(pieces)), key=lambda k: (-len(pieces[k]), k))
     spine, closed = pieces[order[0]], False
     pending = order[1:]
     while pending and not closed:
         rest = []
         for k in pending:
-            got = None if closed else _attach(spine, pieces[k], reach)
+            got = None if closed else _attach(spine, pieces[k], reach, end_zone,
+                                              loop_length)
             if got is None:
                 rest.append(k)
                 continue
@@ -109,7 +114,7 @@ def _spine(pieces: list[np.ndarray], reach: float, h: float
             break
         pending = rest
     if (not closed and len(spine) > 2 and np.hypot(*(spine[0] - spine[-1])) <= reach
-            and np.hypot(*np.diff(spine, axis=0).T).sum() > 4 * reach):
+            and np.hypot(*np.diff(spine, axis=0).T).sum() > loop_length):
         closed = True
     return spine, closed
 
@@ -143,9 +148,12 @@ def _bin_medians(bins: np.ndarray, values: np.ndarray, n: int
 
 
 def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: float,
-               smooth: float, rounds: int = 2) -> tuple[np.ndarray, bool]:
+               smooth: float, *, end_zone: float = Tuning.end_zone,
+               loop_length: float = Tuning.loop_length, rounds: int = 2
+               ) -> tuple[np.ndarray, bool]:
     """The line through the middle of ``pieces`` (see the module), evenly spaced by ``h``,
-    and whether it is closed (then its first point is repeated last).
+    and whether it is closed (then its first point is repeated last). ``end_zone`` and
+    ``loop_length`` are multiples of ``reach`` (:class:`core.params.Tuning`).
 
     >>> x = np.linspace(0, 1, 41)[:, None]
     >>> passes = [np.hstack([x, 0 * x + y]) for y in (-0.01, 0.0, 0.01)]
@@ -153,7 +161,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
     >>> closed, bool(np.abs(line[:, 1]).max() < 1e-9), line[[0, -1], 0].round(3).tolist()
     (False, True, [0.0, 1.0])
     """
-    spine, closed = _spine(pieces, reach, h)
+    spine, closed = _spine(pieces, reach, h, end_zone * reach, loop_length * reach)
     ink = np.concatenate(pieces)
     for _ in range(rounds):
         if closed:
@@ -255,12 +263,13 @@ def clear_band(band: np.ndarray | float, spread: np.ndarray | float, work: Work
 
 
 def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
-               share: float = 0.0) -> tuple[list[int], list[int]] | None:
+               share: float = 0.0, samples: int = Tuning.band_samples
+               ) -> tuple[list[int], list[int]] | None:
     """The pieces (indices) either side of a band free of ink that runs all along the
     passes beside the longest piece, where ``clear(band, spread)`` says it parts two
     lines; None where no band does (one line, however loosely drawn).
 
-    The pieces beside the longest (within ``reach``, 4 samples or more) are ordered
+    The pieces beside the longest (within ``reach``, ``samples`` or more) are ordered
     across it by their median offset from it; each place in that order is judged in
     stretches ``step`` long along it where ink lies on both sides: the band is the space
     between the two sides' ink there, ``spread`` the wider side's width there. The band
@@ -287,7 +296,7 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
     sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
     beside, along, offset = _signed_offsets(line, np.concatenate(pieces), reach)
     which = np.repeat(np.arange(len(pieces)), sizes)
-    judged = np.flatnonzero(np.bincount(which[beside], minlength=len(pieces)) >= 4)
+    judged = np.flatnonzero(np.bincount(which[beside], minlength=len(pieces)) >= samples)
     if len(judged) < 2:
         return None
     keep = beside & np.isin(which, judged)
@@ -324,17 +333,25 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
     return first, [k for k in range(len(pieces)) if k not in first]
 
 
+def fitted_centreline(pieces: list[np.ndarray], work: Work) -> tuple[np.ndarray, bool]:
+    """:func:`centreline` of ``pieces`` at the work's width and tuning (passes 4 and 8)."""
+    t = work.tuning
+    return centreline(pieces, t.member_reach * work.d, work.h, t.bin * work.d,
+                      t.smooth * work.d, end_zone=t.end_zone, loop_length=t.loop_length)
+
+
 def fit_group(members: list[int], work: Work) -> list[Line]:
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
     sides = (band_split(pieces, reach, work.d,
-                        lambda band, spread: clear_band(band, spread, work), t.along_share)
+                        lambda band, spread: clear_band(band, spread, work), t.along_share,
+                        t.band_samples)
              if len(members) > 1 else None)
     if sides is not None:
         return [line for side in sides for line in fit_group([members[k] for k in side],
                                                               work)]
-    line, closed = centreline(pieces, reach, work.h, t.bin * work.d, t.smooth * work.d)
+    line, closed = fitted_centreline(pieces, work)
     if len(members) == 1:
         return [Line(line, closed, tuple(members))]
     share, leaves = _members_along(line, pieces, reach, t.crumb * work.d, closed)
@@ -513,7 +530,7 @@ def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: lis
     i, seg = every.tree.query(shapely.points(points), predicate="dwithin",
                               distance=t.apart * move)
     other = ~np.isin(every.polyline[seg], own)
-    return len(np.unique(i[other])) <= 0.5 * len(points)
+    return len(np.unique(i[other])) <= (1 - t.apart_share) * len(points)
 
 
 def run(work: Work) -> Work:

@@ -21,7 +21,7 @@ joint line (:func:`core.lines.fit.regroup`): that is the fit validating the grou
 StrokeStrip's joint parameterization does; two lines drawn close would both move onto a
 line between them, and a line joined on round a corner would be pulled off its ink. A
 chain of pairs whose joint fit fails is judged pair by pair, each line joined once a
-round. For up to ``ROUNDS`` rounds (fewer where one joins nothing). Not at epsilon 0.
+round. For up to ``tuning.join_rounds`` rounds (fewer where one joins nothing). Not at epsilon 0.
 
 Invariant: every pair is judged on the lines alone, all pairs of a round at once: the
 result does not depend on any order of judging.
@@ -38,11 +38,7 @@ from ..merge.fourier import curve_descriptors, fd_distance
 from .fit import along_pairs, regroup
 from .work import Line, Work
 
-__all__ = ["ROUNDS", "half_width", "joined_pairs", "one_band", "run"]
-
-#: joined lines may pair again with their neighbours: rounds of judging at most (why not
-#: until a round joins nothing: docs/decisions.md)
-ROUNDS = 2
+__all__ = ["half_width", "joined_pairs", "one_band", "run"]
 
 
 def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
@@ -81,14 +77,15 @@ def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
 
 
 def half_width(line: Line, work: Work, known: dict[tuple[int, ...], float]) -> float:
-    """How far a line's own ink spreads from it: the 90th percentile of its pieces'
+    """How far a line's own ink spreads from it: the ``tuning.spread_percentile`` of its
+    pieces'
     distances to it (0 for a single clean pass). ``known``: widths by pieces, filled
     here; a line is the fit of its pieces wherever one set of lines is asked about (and
     within pass 5, from round to round), so the pieces say which line it is."""
     if line.members not in known:
         ink = np.concatenate([work.pieces[m] for m in line.members])
         known[line.members] = float(np.percentile(project_on(line.points, ink).distance,
-                                                  90))
+                                                  work.tuning.spread_percentile))
     return known[line.members]
 
 
@@ -122,7 +119,7 @@ def run(work: Work) -> Work:
     # widths are kept by pieces from round to round
     fits: dict = {}
     widths: dict = {}
-    for _ in range(ROUNDS):
+    for _ in range(work.tuning.join_rounds):
         pairs = one_band(lines, np.concatenate([joined_pairs(lines, work),
                                                 along_pairs(lines, work)]), work,
                          widths)

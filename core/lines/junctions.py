@@ -14,7 +14,7 @@ than that at an end.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
@@ -22,9 +22,10 @@ import shapely
 from ..arrays.geometry import lines_from, unit_rows
 from ..arrays.polylines import arc_lengths, resample_polyline
 from ..curves.bezier import SAMPLES_PER_SEGMENT, sample_bezier
+from ..params import Tuning
 from .work import Line, Work
 
-__all__ = ["Meets", "cut_to", "meet_at_junctions", "met_ends", "run", "tip_of"]
+__all__ = ["Meeting", "Meets", "cut_to", "meet_at_junctions", "met_ends", "run", "tip_of"]
 
 #: which line each end of a line meets: (first end's, last end's), None for a free end
 Meets = tuple[int | None, int | None]
@@ -61,13 +62,44 @@ def cut_to(points: np.ndarray, end: int, at: np.ndarray, reach: float) -> np.nda
     return out if end == 1 else out[::-1]
 
 
-def _end_target(points: np.ndarray, end: int, others: np.ndarray, reach: float,
-                over: float, cos_max: float, cut: bool
+@dataclass(frozen=True)
+class Meeting:
+    """How :func:`meet_at_junctions` meets ends with lines (lengths in the lines' frame).
+
+    >>> Meeting.of(Tuning(), 0.01, 30.0, 0.0025).reach
+    0.01
+    """
+
+    #: the widest gap an end is extended across
+    reach: float
+    #: the longest overshoot cut back
+    over: float
+    #: an end running along the other line (|cos| above this) is no junction
+    cos_max: float
+    #: a line whose end moved is resampled to this
+    spacing: float
+    #: whether an overshoot is cut back (else an end that crosses a line within ``over`` of
+    #: it is left as drawn, and only ends short of a line move)
+    cut: bool = True
+    #: the other line's direction at a foot is taken over this share of ``reach`` each side
+    tangent: float = Tuning.meet_tangent
+    #: a line no longer than this many ``over`` is left as it is
+    trim_length: float = Tuning.trim_length
+
+    @classmethod
+    def of(cls, tuning: Tuning, d: float, angle: float, spacing: float) -> Meeting:
+        """Pass 9's meeting at bundle width ``d`` and merge angle ``angle`` (degrees)."""
+        return cls(tuning.snap * d, tuning.overshoot * d, float(np.cos(np.radians(angle))),
+                   spacing, True, tuning.meet_tangent, tuning.trim_length)
+
+
+def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
                 ) -> tuple[np.ndarray, int] | None:
     """Where one end should meet one of the ``others`` (shapely lines): the crossing
     nearest the end on its last ``over`` (where ``cut``; else an end that crosses a line
     there is left as it is), else the nearest point within ``reach``, and which of
     ``others``; None where there is none, or the line runs along the other."""
+    reach, over, cos_max, cut = how.reach, how.over, how.cos_max, how.cut
     e = points[0] if end == 0 else points[-1]
     tip = tip_of(points, end, over)
     direction = unit_rows((tip[0] - tip[-1])[None])[0]  # out of the line, at the end
@@ -87,7 +119,8 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, reach: float,
             continue
         foot = float(shapely.line_locate_point(other, shapely.Point(target)))
         ahead = shapely.get_coordinates(shapely.line_interpolate_point(
-            other, [max(foot - reach / 4, 0.0), min(foot + reach / 4, other.length)]))
+            other, [max(foot - how.tangent * reach, 0.0),
+                    min(foot + how.tangent * reach, other.length)]))
         along = unit_rows((ahead[1] - ahead[0])[None])[0]
         if abs(float(along @ direction)) > cos_max:  # running along it: no junction
             continue
@@ -95,28 +128,23 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, reach: float,
     return best
 
 
-def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], reach: float,
-                      over: float, cos_max: float, spacing: float, cut: bool = True
+def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], how: Meeting
                       ) -> tuple[list[np.ndarray], list[Meets]]:
     """``lines`` with each open end that stops near another line meeting it (see the
     module), and which line each end meets.
 
     Args:
-        lines: (n, 2) polylines, evenly spaced ``spacing`` apart.
+        lines: (n, 2) polylines, evenly spaced ``how.spacing`` apart.
         closed: whether each line is a ring (its ends never move).
-        reach: the widest gap an end is extended across.
-        over: the longest overshoot cut back; a line no longer than twice this is left.
-        cos_max: an end running along the other line (|cos| above this) is no junction.
-        spacing: a line whose end moved is resampled to this.
-        cut: whether an overshoot is cut back (else an end that crosses a line within
-            ``over`` of it is left as drawn, and only ends short of a line move).
+        how: the reach, the overshoot and the rest (:class:`Meeting`).
 
     Returns:
         The lines (those unchanged as given) and, for each, the lines its ends meet.
 
     >>> bar = np.array([[0.0, 0.0], [10.0, 0.0]])
     >>> stem = np.array([[5.0, 0.5], [5.0, 10.0]])  # stops 0.5 short of the bar
-    >>> out, meets = meet_at_junctions([bar, stem], [False, False], 1.0, 2.0, 0.87, 0.5)
+    >>> how = Meeting(reach=1.0, over=2.0, cos_max=0.87, spacing=0.5)
+    >>> out, meets = meet_at_junctions([bar, stem], [False, False], how)
     >>> out[1][0].tolist(), meets
     ([5.0, 0.0], [(None, None), (0, None)])
     """
@@ -125,7 +153,7 @@ def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], reach: float,
     out, meets = [], []
     for k, pts in enumerate(lines):
         met: list[int | None] = [None, None]
-        if closed[k] or len(pts) < 2 or arc_lengths(pts)[-1] <= 2 * over:
+        if closed[k] or len(pts) < 2 or arc_lengths(pts)[-1] <= how.trim_length * how.over:
             out.append(pts)
             meets.append((None, None))
             continue
@@ -133,14 +161,14 @@ def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], reach: float,
         for end in (0, 1):
             e = moved[0] if end == 0 else moved[-1]
             near = sorted(j for j in tree.query(shapely.Point(e), predicate="dwithin",
-                                                distance=over).tolist() if j != k)
+                                                distance=how.over).tolist() if j != k)
             if not near:
                 continue
-            found = _end_target(moved, end, geoms[near], reach, over, cos_max, cut)
+            found = _end_target(moved, end, geoms[near], how)
             if found is not None:
-                moved = cut_to(moved, end, found[0], over)
+                moved = cut_to(moved, end, found[0], how.over)
                 met[end] = near[found[1]]
-        out.append(resample_polyline(moved, spacing) if moved is not pts else pts)
+        out.append(resample_polyline(moved, how.spacing) if moved is not pts else pts)
         meets.append((met[0], met[1]))
     return out, meets
 
@@ -180,8 +208,7 @@ def run(work: Work) -> Work:
         return work.with_(lines=lines)
     points, meets = meet_at_junctions(
         [ln.points for ln in lines], [ln.closed for ln in lines],
-        work.tuning.snap * work.d, work.tuning.overshoot * work.d,
-        float(np.cos(np.radians(work.params.angle))), work.h)
+        Meeting.of(work.tuning, work.d, work.params.angle, work.h))
     return work.with_(lines=[ln if pts is ln.points and met == (None, None)
                              else Line(pts, ln.closed, ln.members, met)
                              for ln, pts, met in zip(lines, points, meets)])

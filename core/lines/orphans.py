@@ -21,7 +21,7 @@ import numpy as np
 from ..arrays.geometry import Segments
 from ..arrays.polylines import arc_lengths
 from .chains import End, chain
-from .fit import centreline, components, true_runs
+from .fit import components, fitted_centreline, true_runs
 from .work import Line, Work
 
 __all__ = ["run", "stretches_apart"]
@@ -53,15 +53,15 @@ def stretches_apart(distance: np.ndarray, s: np.ndarray, far: float, near: float
     return out
 
 
-def _together(stretches: list[np.ndarray], reach: float) -> list[list[int]]:
-    """``stretches`` in groups: two are one line where half the shorter lies within
+def _together(stretches: list[np.ndarray], reach: float, share: float) -> list[list[int]]:
+    """``stretches`` in groups: two are one line where ``share`` of the shorter lies within
     ``reach`` of the other (loose passes that parted from the line together)."""
     pairs = []
     for i in range(len(stretches)):
         for j in range(i + 1, len(stretches)):
             short, other = sorted((i, j), key=lambda k: (len(stretches[k]), k))
             near = Segments.of([stretches[other]]).distance(stretches[short]) <= reach
-            if near.mean() >= 0.5:
+            if near.mean() >= share:
                 pairs.append((i, j))
     return components(list(range(len(stretches))),
                       np.array(pairs, dtype=np.intp).reshape(-1, 2))
@@ -88,9 +88,8 @@ def run(work: Work) -> Work:
             stretches.append(piece[a:b + 1])
             owner.append(k)
     extra = []
-    for group in _together(stretches, reach):
-        line, closed = centreline([stretches[k] for k in group], reach, work.h,
-                                  t.bin * work.d, t.smooth * work.d)
+    for group in _together(stretches, reach, t.together_share):
+        line, closed = fitted_centreline([stretches[k] for k in group], work)
         extra.append(Line(line, closed, tuple(sorted({owner[k] for k in group}))))
     if not extra:
         return work.with_(lines=lines)

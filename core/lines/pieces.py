@@ -14,6 +14,7 @@ import numpy as np
 from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import arc_lengths, resample_polyline
 from ..curves.bezier import corner_indices
+from ..params import Tuning
 from .work import Work
 
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
@@ -34,10 +35,10 @@ def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: floa
     return [pts[a:b + 1] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
 
 
-def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float
-                         ) -> list[np.ndarray]:
+def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float,
+                         back: float = Tuning.back) -> list[np.ndarray]:
     """An evenly spaced polyline cut where it comes back within ``reach`` of its own
-    earlier ink (farther back along it than ``BACK`` times that), running along it (|cos| at
+    earlier ink (farther back along it than ``back`` times that), running along it (|cos| at
     least ``along_cos``, either way): a ring drawn round several times, a line drawn back
     over itself. Each turn is a piece, which pass 3 groups with the others.
 
@@ -48,7 +49,7 @@ def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float
     """
     out = []
     while len(points) >= 4:
-        k = _first_return(points, reach, along_cos)
+        k = _first_return(points, reach, along_cos, back)
         if k is None:
             break
         out.append(points[:k + 1])
@@ -63,13 +64,11 @@ def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float
 
 #: points asked about at once (a stroke shaking over itself has many ink pairs near each)
 CHUNK = 1024
-#: ink comes back when it lies within reach of the stroke's ink this many reaches back
-BACK = 4
 
 
-def _cannot_return(points: np.ndarray) -> bool:
-    """Whether every step of the polyline heads along its chord by more than 1 / ``BACK``
-    of its length: then ink ``BACK`` reaches back along it lies more than a reach away
+def _cannot_return(points: np.ndarray, back: float) -> bool:
+    """Whether every step of the polyline heads along its chord by more than 1 / ``back``
+    of its length: then ink ``back`` reaches back along it lies more than a reach away
     along the chord alone, and nothing comes back (most strokes; no query needed)."""
     step = np.diff(points, axis=0)
     length = np.hypot(step[:, 0], step[:, 1])
@@ -78,14 +77,15 @@ def _cannot_return(points: np.ndarray) -> bool:
     if span <= 0:
         return False
     moving = length > 0
-    return bool((step[moving] @ (chord / span) > length[moving] / BACK).all())
+    return bool((step[moving] @ (chord / span) > length[moving] / back).all())
 
 
-def _first_return(points: np.ndarray, reach: float, along_cos: float) -> int | None:
+def _first_return(points: np.ndarray, reach: float, along_cos: float, back: float
+                  ) -> int | None:
     """The first point that comes back along the polyline's earlier ink (see
     :func:`cut_where_it_returns`), asked about a chunk at a time, or None."""
     s = arc_lengths(points)
-    if s[-1] <= BACK * reach or _cannot_return(points):
+    if s[-1] <= back * reach or _cannot_return(points, back):
         return None
     segs = Segments.of([points])
     tan = tangents(points)
@@ -93,9 +93,9 @@ def _first_return(points: np.ndarray, reach: float, along_cos: float) -> int | N
         rows = np.arange(start, min(start + CHUNK, len(points)))
         i, seg = segs.running_along(points[rows], tan[rows], reach, along_cos)
         i = rows[i]
-        back = s[i] - s[seg + 1] > BACK * reach
-        if back.any():
-            return int(i[back].min())
+        returned = s[i] - s[seg + 1] > back * reach
+        if returned.any():
+            return int(i[returned].min())
     return None
 
 
@@ -110,7 +110,8 @@ def run(work: Work) -> Work:
             cut = [turn for leg in cut_at_corners(stroke, work.h, work.tuning.cut_angle,
                                                   work.tuning.cut_reach * work.d)
                    for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
-                                                    work.tuning.follow_cos)]
+                                                    work.tuning.follow_cos,
+                                                    work.tuning.back)]
         for j, piece in enumerate(cut):
             pieces.append(piece)
             owner.append(k)

@@ -35,7 +35,8 @@ class Work:
     """The pen stage's state after some passes.
 
     Fields set at the start: the simplified complex, the params (resolved) and their
-    tuning, d_eps, the sample spacing ``h`` (d_eps / 4), the input strokes (unit frame).
+    tuning, d_eps, the sample spacing ``h`` (``tuning.sample`` d_eps), the input strokes
+    (unit frame).
     Then, pass by pass: ``pieces`` and the input stroke and position within it of each
     (``pieces``); for every sample of every piece, the alive curve it follows and where
     along it, -1 and NaN where none (``follow``); the pairs of pieces that draw one line and
@@ -66,7 +67,7 @@ a group label per piece, their connected components (``group``);
     def start(cls, state: ComplexState, params: SimplifyParams, strokes: list[np.ndarray],
               memo=None) -> Work:
         d = float(params.alpha)
-        return cls(state, params, params.tuning, d, d / 4, strokes, memo)
+        return cls(state, params, params.tuning, d, d * params.tuning.sample, strokes, memo)
 
     def with_(self, **changes) -> Work:
         return replace(self, **changes)

@@ -11,7 +11,7 @@ Three kinds of pair, each costed with the Fourier descriptor distance d:
   w = min(d(A, M), d(B, M)) with M the merged curve.
 
 Beyond the paper, a merge must not move ink far: what a patch merge removes (the curves
-between two patches, a free curve) must lie within ``GUARD_REACH`` d_eps of what stays, and
+between two patches, a free curve) must lie within ``tuning.guard_reach`` d_eps of what stays, and
 a curve-curve merge's curve within d_eps (d_eps = alpha * D) of both curves it replaces.
 The Fourier distance is blind to scale, so without this guard tiny faces would merge across
 real lines and erase them. A patch merge keeps one side of what it removes, not their
@@ -52,25 +52,10 @@ from .guard import DistanceGuard, PatchCurves
 from .queue import MergeQueue, QueueEntry
 from .shapes import CurveShapes, PatchShapes
 
-__all__ = ["GUARD_REACH", "AgglomerationStats", "Agglomerator", "Costed", "agglomerate"]
+__all__ = ["AgglomerationStats", "Agglomerator", "Costed", "agglomerate"]
 
 PP, CP, CC = MergeKind.PP, MergeKind.CP, MergeKind.CC
 INF = math.inf
-
-#: what a patch merge removes must lie within this many d_eps of what stays. The paper's
-#: bundle width (1.0) let a merge delete one side of a bundle and keep the other, off the
-#: middle where the artist meant the line; at a quarter, only passes drawn almost over
-#: each other are deleted, and the output stage merges the rest onto their middle. On the
-#: 101 dev sketches, 1.0 -> 0.25: tight recall 0.813 -> 0.836 (higher on 31 product
-#: sketches, lower on 3), doubled ink 0.052 -> 0.041 (lower on 31 sketches, higher on 16:
-#: the two passes of yz's Z diagonal, 1.02 d_eps apart with nothing between, stay two;
-#: ring's widest bundles), coverage 0.986 -> 0.991, F 0.988 -> 0.991, worst ink kept 0.985
-#: -> 0.987, fidelity 0.471 -> 0.500 px, no sketch with more strokes out than in (infinity
-#: 4 -> 3 for 3), strokes per intended curve on the study drawings 1.652 -> 1.780. 0.75,
-#: 0.5, 0.35 and 0.15 measured too: tight recall rises as the reach shrinks (0.811 at
-#: 0.75, 0.830 at 0.35, 0.838 at 0.15), doubled ink falls to 0.25 and the cartoons' rises
-#: below it (0.025 at 0.25, 0.034 at 0.15)
-GUARD_REACH = 0.25
 
 #: a stale pair with a patch (PP, CP) is keyed by this fraction of the estimate its
 #: parents' costs give: the Fourier distance of a patch to its union with a small
@@ -128,7 +113,7 @@ class Agglomerator:
         self.geometry = RingGeometry(cx)
         self.lines = lines_from(cx.curves) if cx.curves else np.empty(0, dtype=object)
         self.guard = DistanceGuard(cx.curves, self.lines, self.d_eps, cx.curve_nodes,
-                                   cx.node_curves, GUARD_REACH * self.d_eps)
+                                   cx.node_curves, params.tuning.guard_reach * self.d_eps)
         self.queue = MergeQueue()
         self.history: list[Merge] = []
         self.stats = AgglomerationStats()
@@ -233,7 +218,8 @@ class Agglomerator:
         found = pair_and_merge_many(
             [(self.curves.sampled(a), st.curve_weight[a], self.curves.sampled(b),
               st.curve_weight[b])
-             for a, b in pairs], self.d_eps, self.params.angle)
+             for a, b in pairs], self.d_eps, self.params.angle,
+            side_share=self.params.tuning.side_share)
         shapes = [merged for _, merged in found]
         self.curves.describe([c for pair, shape in zip(pairs, shapes) if shape is not None
                                for c in pair])

@@ -38,13 +38,16 @@ from ..arrays.polylines import (
     split,
     starts,
 )
+from ..params import Tuning
 
 __all__ = [
-    "MIN_OVERLAP", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
+    "PROBE_SLACK", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
 ]
 
-#: fraction of the shorter curve that must lie beside the longer one
-MIN_OVERLAP = 0.5
+#: a screen before the exact side-by-side test: a pair with fewer of its nine probe points
+#: within d_eps than ``side_share`` less this is refused unmeasured (the probes sample the
+#: shorter curve coarsely; the exact test decides the rest)
+PROBE_SLACK = 0.2
 
 
 def sample_spacing(d_eps: float) -> float:
@@ -160,15 +163,15 @@ def _project(bases: list[SampledCurve], curves: list[SampledCurve]
 
 
 def _side_by_side(longs: list[SampledCurve], shorts: list[SampledCurve], d_eps: float,
-                  cos_max: float) -> tuple[np.ndarray, list[np.ndarray]]:
-    """Whether each short curve runs beside its long one (most of it within d_eps, their
-    tangents there mostly within the angle), and the short curves' parameters along the
-    long ones."""
+                  cos_max: float, share: float) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Whether each short curve runs beside its long one (at least ``share`` of it within
+    d_eps, their tangents there mostly within the angle), and the short curves' parameters
+    along the long ones."""
     s, dist, which, bases_ = _project(longs, shorts)
     sizes = np.bincount(which, minlength=len(shorts))
     near = dist <= d_eps
     count = np.bincount(which[near], minlength=len(shorts))
-    side = count / sizes >= MIN_OVERLAP
+    side = count / sizes >= share
     # the median |cos| of the tangent angle over each pair's near points
     tangents = np.concatenate([c.tangents for c in shorts])[near]
     long_tangents = np.concatenate([c.tangents for c in longs])
@@ -282,10 +285,12 @@ def _within(merged: list[np.ndarray], parents: list[tuple[SampledCurve, SampledC
 
 
 def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, float]],
-                        d_eps: float, max_angle_deg: float, end_to_end: bool = True
+                        d_eps: float, max_angle_deg: float, end_to_end: bool = True,
+                        side_share: float = Tuning.side_share
                         ) -> list[tuple[str | None, np.ndarray | None]]:
     """How each pair of weighted curves pairs ('side', 'overlap', 'end' or None; no 'end'
-    unless ``end_to_end``) and, if it does, their merged polyline.
+    unless ``end_to_end``) and, if it does, their merged polyline. Side by side means at
+    least ``side_share`` of the shorter within d_eps of the longer.
 
     The merged polyline keeps within d_eps of both curves, or the pair is refused. The
     pairs are worked out together, a step at a time for all (the merge loop costs hundreds
@@ -305,12 +310,13 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
         lines = np.array([ordered[k][0].line for k in live], dtype=object)
         near = shapely.dwithin(probes, np.repeat(lines, 9), d_eps).reshape(-1, 9)
         probed = [k for k, hits in zip(live, np.count_nonzero(near, axis=1).tolist())
-                  if hits / 9 >= MIN_OVERLAP - 0.2]
+                  if hits / 9 >= side_share - PROBE_SLACK]
         end_probed = [k for k, row in zip(live, near.tolist())
                       if (row[0] or row[-1]) and sum(row) >= 2]
         if probed:
             side, s = _side_by_side([ordered[k][0] for k in probed],
-                                    [ordered[k][2] for k in probed], d_eps, cos_max)
+                                    [ordered[k][2] for k in probed], d_eps, cos_max,
+                                    side_share)
             for k, beside, s_k in zip(probed, side.tolist(), s):
                 along[k] = s_k
                 how[k] = "side" if beside else None

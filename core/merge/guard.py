@@ -1,5 +1,5 @@
 """The distance guard: whatever a patch merge removes must lie within a reach of what stays
-(:data:`core.merge.agglomeration.GUARD_REACH` d_eps).
+(``Tuning.guard_reach`` d_eps, :class:`core.params.Tuning`).
 
 ``covered(curves, allowed)`` asks whether every sample of ``curves`` lies within the reach
 of one of the ``allowed`` curves. Base curves never change shape, so for a base curve the
