@@ -11,7 +11,8 @@ from .arrays.geometry import Segments, tangents
 from .arrays.polylines import resample_each, split, total_lengths
 from .sketch import SketchError
 
-__all__ = ["EPSILON_SOFT_MAX", "MIN_ALPHA", "PAPER_ALPHA", "SimplifyParams", "Tuning",
+__all__ = ["EPSILON_SOFT_MAX", "MIN_ALPHA", "PAPER_ALPHA", "ResolvedParams", "SimplifyParams",
+           "Tuning",
            "banded_shares", "ink_spacing"]
 
 #: the bundle width as a fraction of the drawing's diagonal: the paper's alpha
@@ -335,7 +336,7 @@ class SimplifyParams:
             check(value is None or (isinstance(value, int) and value >= 0),
                   f"{name} must be a whole number >= 0 or None, got {value!r}")
 
-    def resolved(self, unit_strokes: list[np.ndarray] | None = None) -> SimplifyParams:
+    def resolved(self, unit_strokes: list[np.ndarray] | None = None) -> ResolvedParams:
         """These params with alpha and fill_gap numbers, fractions of the drawing's diagonal
         (the unit frame's, :class:`core.io.cleaning.Normalisation`): the narrowest that
         :meth:`widths` tries, the one kept whatever its result.
@@ -375,7 +376,7 @@ class SimplifyParams:
         """
         return self._widths(unit_strokes, wider=False)[-1]
 
-    def widths(self, unit_strokes: list[np.ndarray] | None = None) -> list[SimplifyParams]:
+    def widths(self, unit_strokes: list[np.ndarray] | None = None) -> list[ResolvedParams]:
         """The resolved params that :func:`core.simplify` tries, widest first: the last is
         :meth:`resolved`'s (at most ``tuning.loose_alpha``), kept whatever its result;
         before it, for a sparse drawing under "auto" alpha whose ink's width
@@ -405,9 +406,9 @@ class SimplifyParams:
         return self._widths(unit_strokes, wider=True)
 
     def _widths(self, unit_strokes: list[np.ndarray] | None, wider: bool
-                ) -> list[SimplifyParams]:
+                ) -> list[ResolvedParams]:
         if self.alpha != "auto" and self.fill_gap != "auto":
-            return [self]
+            return [ResolvedParams.of(self)]
         t = self.tuning
         spacing = ink_spacing(unit_strokes, t.ink_cell) if unit_strokes else None
         alphas = [self.alpha]
@@ -423,7 +424,8 @@ class SimplifyParams:
                     alphas = [w for w, banded in zip(tries, banded_shares(unit_strokes, tries,
                                                                            t))
                               if banded <= t.wide_banded] + alphas
-        return [replace(self, alpha=alpha, fill_gap=self._fill_gap(alpha, spacing))
+        return [ResolvedParams.of(replace(self, alpha=alpha,
+                                          fill_gap=self._fill_gap(alpha, spacing)))
                 for alpha in alphas]
 
     def _fill_gap(self, alpha: float, spacing: float | None) -> float:
@@ -434,6 +436,52 @@ class SimplifyParams:
 
     def as_dict(self) -> dict:
         return asdict(self)
+
+
+@dataclass(frozen=True)
+class ResolvedParams(SimplifyParams):
+    """:class:`SimplifyParams` resolved for one drawing: alpha and fill_gap are numbers
+    (fractions of the drawing's diagonal), never "auto". Made once, by
+    :meth:`SimplifyParams.resolved` or :meth:`SimplifyParams.widths` (or by :meth:`of`
+    from params whose numbers are given, as a record's are); every stage after the width
+    (the complex, the merge loop, the lines, a replay) takes this type, and resolves
+    nothing again.
+
+    >>> p = SimplifyParams().resolved()
+    >>> type(p).__name__, p.alpha, p.resolved() is p
+    ('ResolvedParams', 0.012, True)
+    >>> ResolvedParams.of(SimplifyParams(alpha=0.02, fill_gap=0.01)).alpha
+    0.02
+    >>> ResolvedParams.of(SimplifyParams())
+    Traceback (most recent call last):
+    ...
+    core.sketch.SketchError: params are not resolved: alpha 'auto', fill_gap 'auto'
+    """
+
+    #: the bundle width used, a fraction of the drawing's diagonal
+    alpha: float = PAPER_ALPHA
+    #: the widest band free of ink inside one bundle used, a fraction of the diagonal
+    fill_gap: float = 0.0
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.alpha == "auto" or self.fill_gap == "auto":
+            raise SketchError(f"params are not resolved: alpha {self.alpha!r}, "
+                              f"fill_gap {self.fill_gap!r}")
+
+    @classmethod
+    def of(cls, params: SimplifyParams) -> ResolvedParams:
+        """``params`` as resolved params, where their alpha and fill_gap are numbers;
+        raises :class:`SketchError` where either is "auto"."""
+        if isinstance(params, cls):
+            return params
+        return cls(**{f.name: getattr(params, f.name) for f in fields(params)})
+
+    def resolved(self, unit_strokes: list[np.ndarray] | None = None) -> ResolvedParams:
+        return self
+
+    def widths(self, unit_strokes: list[np.ndarray] | None = None) -> list[ResolvedParams]:
+        return [self]
 
 
 def ink_spacing(unit_strokes: list[np.ndarray], cell_size: float = Tuning.ink_cell

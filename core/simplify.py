@@ -45,7 +45,7 @@ from .io.cleaning import (
 from .lines import PenRun, lines_from_pen
 from .lines.work import Work
 from .merge.agglomeration import AgglomerationStats, agglomerate
-from .params import SimplifyParams, Tuning
+from .params import ResolvedParams, SimplifyParams, Tuning
 from .sketch import Region, Sketch, SketchError, Stroke
 
 #: the epsilon at which a wider width is judged: the default one
@@ -84,7 +84,7 @@ def prepare(sketch: Sketch) -> Prepared:
     return Prepared(cleaned, report, unit, norm, NearestInk(cleaned.strokes, unit))
 
 
-def build_complex(prepared: Prepared, params: SimplifyParams) -> BaseComplex:
+def build_complex(prepared: Prepared, params: ResolvedParams) -> BaseComplex:
     """Stage 3: the base complex of the strokes (:mod:`core.complex`, paper 3.1), a
     sketch too tangled for ``params.max_curves`` refused before and after noding."""
     if params.max_curves is not None:
@@ -105,7 +105,7 @@ class SimplifyResult:
     """Output strokes (input coordinates) and everything that led to them."""
 
     strokes: list[Stroke]
-    params: SimplifyParams
+    params: ResolvedParams
     complex: BaseComplex  # the initial base complex, unit frame
     state: ComplexState  # the simplified complex: alive curves and patches
     history: list[Merge]  # every merge applied, in order, with its cost
@@ -161,7 +161,7 @@ class SimplifyResult:
         ``picture`` (debug pictures, ``scripts/pen_passes.py``). The stage is a function of
         the complex, the params and the strokes alone, so these are the lines a pen-stage
         run made."""
-        return lines_from_pen(self.state, self.params.resolved(), self._prepared.unit,
+        return lines_from_pen(self.state, self.params, self._prepared.unit,
                               picture=picture)
 
     def to_sketch(self) -> Sketch:
@@ -228,7 +228,7 @@ def _counts(nodes: int, curves: int, patches: int, strokes: int) -> dict[str, in
 
 
 def _finish(prepared: Prepared, cx: BaseComplex, state: ComplexState, history: list[Merge],
-            params: SimplifyParams, stats: AgglomerationStats | None,
+            params: ResolvedParams, stats: AgglomerationStats | None,
             timings: dict[str, float], memo: StrokeMemo | None = None) -> SimplifyResult:
     """Stages 5 and 6 on a simplified complex: the lines drawn from the pen
     (:mod:`core.lines`), then the ink's attributes carried onto them, back in the input's
@@ -236,7 +236,7 @@ def _finish(prepared: Prepared, cx: BaseComplex, state: ComplexState, history: l
     t0 = time.perf_counter()
     memo = StrokeMemo() if memo is None else memo
     ink, norm, sketch = prepared.ink, prepared.norm, prepared.cleaned
-    pen = lines_from_pen(state, params.resolved(), prepared.unit, memo)
+    pen = lines_from_pen(state, params, prepared.unit, memo)
     fitted = pen.work.fitted
     timings = {**timings, **{f"pen.{k}": v for k, v in pen.seconds.items()}}
     t1 = time.perf_counter()
@@ -302,9 +302,10 @@ def from_record(sketch: Sketch, params: SimplifyParams, record: list[Merge],
     loop: the base complex built again (deterministically: the record's ids name the same
     curves and patches) and the recorded merges cheaper than ``params.epsilon`` replayed;
     what a fresh run gives, exactly. ``params`` are the run's resolved params (its
-    ``result.params``, alpha a number) at any epsilon up to ``covers``, the epsilon the
-    record reaches. A run in another process sends back its record (a few MB at most),
-    not its whole result."""
+    ``result.params``, or params with the same numbers: :meth:`ResolvedParams.of`) at any
+    epsilon up to ``covers``, the epsilon the record reaches. A run in another process
+    sends back its record (a few MB at most), not its whole result."""
+    params = ResolvedParams.of(params)
     if not 0 <= params.epsilon <= covers:
         raise SketchError(f"epsilon {params.epsilon} is outside 0..{covers}, the range "
                           "this record covers")
@@ -318,7 +319,7 @@ def from_record(sketch: Sketch, params: SimplifyParams, record: list[Merge],
     return out
 
 
-def _replayed(cx: BaseComplex, record: list[Merge], params: SimplifyParams) -> ComplexState:
+def _replayed(cx: BaseComplex, record: list[Merge], params: ResolvedParams) -> ComplexState:
     """The complex after the recorded merges a run at ``params.epsilon`` applies: those
     cheaper than it, up to the targets (the merge loop's own stopping rule)."""
     state = ComplexState(cx)
@@ -330,7 +331,7 @@ def _replayed(cx: BaseComplex, record: list[Merge], params: SimplifyParams) -> C
     return state
 
 
-def _wider_kept(prepared: Prepared, cx: BaseComplex, wider: list[SimplifyParams],
+def _wider_kept(prepared: Prepared, cx: BaseComplex, wider: list[ResolvedParams],
                 timings: dict[str, float], cover: float | None) -> SimplifyResult | None:
     """The result at the first of the ``wider`` widths whose lines keep the ink
     (:func:`_keeps_ink`), judged at :data:`KEEP_EPSILON` whatever the epsilon asked, then
@@ -351,7 +352,7 @@ def _wider_kept(prepared: Prepared, cx: BaseComplex, wider: list[SimplifyParams]
     return None
 
 
-def _run(prepared: Prepared, cx: BaseComplex, params: SimplifyParams,
+def _run(prepared: Prepared, cx: BaseComplex, params: ResolvedParams,
          timings: dict[str, float], cover: float | None = None) -> SimplifyResult:
     """Stage 4, the merge loop (:mod:`core.merge`, paper 3.2), then stages 5 and 6 on the
     base complex, at one resolved width; with ``cover`` above epsilon, the loop runs on to

@@ -89,7 +89,7 @@ def doubled_grid() -> list[np.ndarray]:
 @pytest.fixture()
 def agglomerator() -> Agglomerator:
     """The doubled grid's complex, its pairs queued (nothing merged yet)."""
-    agg = Agglomerator(build_base_complex(doubled_grid()), SimplifyParams())
+    agg = Agglomerator(build_base_complex(doubled_grid()), SimplifyParams().resolved())
     agg._initial_pairs()
     return agg
 
@@ -142,7 +142,7 @@ def test_entries_of_merged_away_primitives_are_skipped(agglomerator):
 
 
 def test_the_first_fresh_cost_not_below_epsilon_ends_the_run():
-    agg = Agglomerator(build_base_complex(doubled_grid()), SimplifyParams(epsilon=0.0))
+    agg = Agglomerator(build_base_complex(doubled_grid()), SimplifyParams(epsilon=0.0).resolved())
     agg._initial_pairs()
     assert len(agg.queue) > 0
     assert not agg.step()

@@ -158,7 +158,7 @@ def test_the_agglomerations_guard_measures_at_its_reach_and_samples_at_the_bundl
     strokes = [np.cumsum(rng.normal(0, 0.05, (10, 2)), axis=0) + rng.uniform(0, 0.3, 2)
                for _ in range(12)]
     cx = build_base_complex(strokes)
-    params = SimplifyParams(alpha=0.02)
+    params = SimplifyParams(alpha=0.02).resolved()
     guard = Agglomerator(cx, params).guard
     reach = params.tuning.guard_reach * params.alpha
     assert guard.reach == reach

@@ -85,7 +85,7 @@ def lines_from_pen(state: ComplexState, params: SimplifyParams, strokes: list[np
 
     Args:
         state: the complex after the merge loop (unit frame).
-        params: resolved params (alpha a number).
+        params: the resolved params (:class:`core.params.ResolvedParams`).
         strokes: the input strokes in the unit frame, as cleaned.
         memo: a :class:`core.curves.memo.StrokeMemo` whose Bezier fits a replay reuses.
         picture: called with each pass's name and the work after it (debug pictures).

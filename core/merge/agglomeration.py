@@ -45,7 +45,7 @@ from ..arrays.geometry import lines_from, ring_is_counter_clockwise
 from ..complex.base_complex import BaseComplex
 from ..complex.complex_state import ComplexState, Merge, MergeKind
 from ..complex.patch_rings import RingGeometry, spike_walk, union_outline_points, union_rings
-from ..params import SimplifyParams
+from ..params import ResolvedParams, SimplifyParams
 from .curve_merge import pair_and_merge_many
 from .fourier import curve_descriptors, fd_distance, fourier_descriptors
 from .guard import DistanceGuard, PatchCurves
@@ -106,7 +106,7 @@ class Agglomerator:
     """
 
     def __init__(self, cx: BaseComplex, params: SimplifyParams) -> None:
-        params = params.resolved()  # alpha a number
+        params = ResolvedParams.of(params)  # alpha a number
         self.params = params
         self.d_eps = params.alpha  # D = 1 in the unit frame
         self.state = ComplexState(cx)
