@@ -12,7 +12,7 @@ from ..arrays.polylines import end_to_end, total_lengths
 from ..sketch import Sketch, SketchError, Stroke
 
 __all__ = [
-    "APART", "MAX_INK_DIAGONALS", "MIN_STROKE_SHARE", "REACH", "clean_sketch",
+    "DRAWING_REACH", "MAX_INK_DIAGONALS", "MIN_STROKE_SHARE", "PARTS_APART", "clean_sketch",
     "clean_stroke", "CleaningReport", "drawing_box", "drawing_parts", "drawing_strokes",
     "Normalisation", "normalised_strokes",
 ]
@@ -155,18 +155,15 @@ def normalised_strokes(sketch: Sketch) -> tuple[list[np.ndarray], Normalisation]
 
 
 #: a stroke whose box comes within this fraction of the drawing's diagonal of the drawing
-#: belongs to it (drawing_box). At 0.1, separate letters of a word (12345_label,
-#: ghi_SA) and a detached part of a product sketch (student7 vacuum_cleaner) were split
-#: into drawings of their own; at 0.25 each of the 101 dev sketches is one drawing
-REACH = 0.25
+#: belongs to it (drawing_box): the letters of a word, a detached part of a product
+#: sketch, are one drawing. decisions: "The drawing's frame"
+DRAWING_REACH = 0.25
 
 #: parts of the ink separated by a gap wider than this many times the median stroke's
 #: length are separate drawings (drawing_parts): the hand lifted and moved on, no stroke
-#: drawn across the gap. Scale-free, from the pen, not the page. At 1, three of the 101
-#: dev sketches have a second part (student7 vacuum_cleaner's line drawn apart above it,
-#: 1% of its ink; a scrap of Bunny02; a part of Bunny08 with 7%), the letters of the
-#: handwriting do not (12345_label's digits part at 0.5); at 2, none has
-APART = 1.0
+#: drawn across the gap. Scale-free, from the pen, not the page. decisions: "The
+#: drawing's frame"
+PARTS_APART = 1.0
 
 
 def _boxes_and_lengths(strokes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -178,7 +175,7 @@ def _boxes_and_lengths(strokes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarra
 
 def drawing_parts(strokes: list[np.ndarray]) -> np.ndarray:
     """A label per stroke: its drawing, where ink separated by a gap wider than
-    :data:`APART` times the median stroke's length is two drawings (the strokes' boxes
+    :data:`PARTS_APART` times the median stroke's length is two drawings (the strokes' boxes
     chained while they come that close in x and in y). Labels are numbered in the order
     of their first strokes. Memory grows with the strokes, not with the pairs of them
     that come close (a dense drawing's strokes all do): the boxes, each grown by half the
@@ -195,7 +192,7 @@ def drawing_parts(strokes: list[np.ndarray]) -> np.ndarray:
 
 
 def _parts(boxes: np.ndarray, lengths: np.ndarray) -> np.ndarray:
-    half = 0.5 * APART * float(np.median(lengths))
+    half = 0.5 * PARTS_APART * float(np.median(lengths))
     label = np.zeros(len(boxes), dtype=np.intp)
     if not half > 0:  # most strokes points: no length to judge a gap by
         return label
@@ -234,10 +231,8 @@ def drawing_box(strokes: list[np.ndarray]) -> np.ndarray:
     the part half the ink is drawn at was measured too). Within it,
     the drawing grows from the strokes crossing the middle of its ink (the box between the
     quartiles of the stroke points in x and in y) by every stroke whose box comes within
-    ``REACH`` times the drawing's diagonal, until none does. A stroke left out lies far
-    from all of it. (Grown from the single stroke nearest the median instead, the start is
-    too small: the separate digits of 12345_label became drawings of their own, 19
-    strokes out became 43.)
+    ``DRAWING_REACH`` times the drawing's diagonal, until none does. A stroke left out lies far
+    from all of it (why from the middle box, not one stroke: "The drawing's frame").
 
     >>> t = np.linspace(0, 1, 50)[:, None]
     >>> cross = [np.hstack([t, t]), np.hstack([t, 1 - t])]
@@ -258,7 +253,7 @@ def drawing_box(strokes: list[np.ndarray]) -> np.ndarray:
                              np.percentile(points, 75, axis=0)])
     member = np.zeros(len(boxes), bool)
     while True:
-        margin = REACH * float(np.hypot(*(region[2:] - region[:2])))
+        margin = DRAWING_REACH * float(np.hypot(*(region[2:] - region[:2])))
         near = ((boxes[:, 0] <= region[2] + margin) & (boxes[:, 2] >= region[0] - margin)
                 & (boxes[:, 1] <= region[3] + margin) & (boxes[:, 3] >= region[1] - margin))
         if not (near & ~member).any():
