@@ -374,8 +374,10 @@ def _run(prepared: Prepared, cx: BaseComplex, params: ResolvedParams,
 def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float,
                tuning: Tuning) -> bool:
     """Whether ``lines`` keep the ink of ``drawing`` (unit-frame polylines, sampled every
-    reach / 8): at most ``tuning.keep_left`` of it, and at most ``tuning.keep_stroke`` of
-    any one stroke, farther than ``reach`` from every line.
+    ``tuning.keep_reach`` / 8 of the drawing's diagonal, whatever ``reach``, so that the
+    samples are bounded by the ink, not by a canvas the file says is tiny): at most
+    ``tuning.keep_left`` of it, and at most ``tuning.keep_stroke`` of any one stroke,
+    farther than ``reach`` from every line.
 
     >>> x = np.linspace(0, 1, 11)[:, None]
     >>> ink = [np.hstack([x, 0 * x]), np.hstack([x, 0.03 + 0 * x])]
@@ -390,7 +392,7 @@ def _keeps_ink(drawing: list[np.ndarray], lines: list[np.ndarray], reach: float,
     lines = [line for line in lines if len(line) >= 2]
     if not lines:
         return False
-    reached = Reached.of(drawing, lines, reach, reach / 8)
+    reached = Reached.of(drawing, lines, reach, tuning.keep_reach / 8)
     return bool(1 - reached.near().mean() <= tuning.keep_left
                 and 1 - reached.shares().min() <= tuning.keep_stroke)
 
