@@ -20,7 +20,8 @@ as before; a wider result is never kept that leaves more ink out than keep_left.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
@@ -273,15 +274,16 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None,
     if not isinstance(params, SimplifyParams):
         raise SketchError(f"params must be SimplifyParams, got {type(params).__name__}")
     t0 = time.perf_counter()
-    prepared = prepare(sketch)                        # 1. clean, into the unit frame
-    *wider, params = params.widths(prepared.drawing)  # 2. the width: "auto" follows the ink
-    t1 = time.perf_counter()
-    cx = build_complex(prepared, params)              # 3. the base complex (3.1)
-    timings = {"clean": t1 - t0, "complex": time.perf_counter() - t1}
-    # 4-6. agglomerate (3.2), draw the lines, carry the ink's attributes: a wider width
-    # first where the drawing is sparse, kept where its result keeps the ink
-    result = _wider_kept(prepared, cx, wider, timings, cover) or _run(prepared, cx, params,
-                                                                      timings, cover)
+    with _out_of_memory_said(sketch):
+        prepared = prepare(sketch)                        # 1. clean, into the unit frame
+        *wider, params = params.widths(prepared.drawing)  # 2. the width: follows the ink
+        t1 = time.perf_counter()
+        cx = build_complex(prepared, params)              # 3. the base complex (3.1)
+        timings = {"clean": t1 - t0, "complex": time.perf_counter() - t1}
+        # 4-6. agglomerate (3.2), draw the lines, carry the ink's attributes: a wider width
+        # first where the drawing is sparse, kept where its result keeps the ink
+        result = (_wider_kept(prepared, cx, wider, timings, cover)
+                  or _run(prepared, cx, params, timings, cover))
     if not result.strokes and result.params.epsilon > 0:
         # every stroke of the drawing shorter than the bundle width, as where ink far away
         # holding much of the points sets the drawing's size: say so, rather than give back
@@ -294,6 +296,22 @@ def simplify(sketch: Sketch, params: SimplifyParams | None = None,
             "epsilon 0")
     result.timings["total"] = time.perf_counter() - t0
     return result
+
+
+@contextmanager
+def _out_of_memory_said(sketch: Sketch) -> Iterator[None]:
+    """Running out of memory (numpy's MemoryError, GEOS's bad_alloc) said as a
+    :class:`SketchError` naming the sketch's size and what to do, not a traceback: the
+    caller's strokes are untouched either way."""
+    try:
+        yield
+    except (MemoryError, shapely.errors.GEOSException) as exc:
+        if not isinstance(exc, MemoryError) and "bad_alloc" not in str(exc):
+            raise
+        points = sum(len(s.points) for s in sketch.strokes)
+        raise SketchError(f"out of memory simplifying {len(sketch.strokes)} strokes "
+                          f"({points} points): simplify fewer at once (the strokes "
+                          "selected, or the drawing's parts apart)") from exc
 
 
 def from_record(sketch: Sketch, params: SimplifyParams, record: list[Merge],

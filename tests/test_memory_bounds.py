@@ -41,3 +41,23 @@ def test_a_canvas_far_smaller_than_its_ink_is_simplified_in_the_memory_the_ink_n
     assert done.returncode == 0, done.stderr[-2000:]
     strokes, peak_mb = map(int, done.stdout.split())
     assert 1 <= strokes <= 2 and peak_mb < 400
+
+
+@pytest.mark.parametrize("error", [MemoryError("Unable to allocate 14.0 GiB"),
+                                   "GEOS std::bad_alloc"])
+def test_running_out_of_memory_is_said_as_a_sketch_error_naming_the_sketchs_size(
+        monkeypatch, error):
+    import importlib
+
+    import numpy as np
+    import shapely
+
+    from core import Sketch, SketchError, Stroke, simplify
+
+    def exhausted(*args, **kwargs):
+        raise error if isinstance(error, MemoryError) else shapely.errors.GEOSException(error)
+
+    monkeypatch.setattr(importlib.import_module("core.simplify"), "build_complex", exhausted)
+    t = np.linspace(0, 1, 10)[:, None]
+    with pytest.raises(SketchError, match=r"out of memory simplifying 1 strokes \(10 points\)"):
+        simplify(Sketch([Stroke(np.hstack([t, t]))]))
