@@ -40,6 +40,7 @@ from .io.cleaning import (
     CleaningReport,
     Normalisation,
     clean_sketch,
+    drawing_part_areas,
     drawing_strokes,
     normalised_strokes,
 )
@@ -86,19 +87,48 @@ def prepare(sketch: Sketch) -> Prepared:
 
 
 def build_complex(prepared: Prepared, params: ResolvedParams) -> BaseComplex:
-    """Stage 3: the base complex of the strokes (:mod:`core.complex`, paper 3.1), a
-    sketch too tangled for ``params.max_curves`` refused before and after noding."""
-    if params.max_curves is not None:
-        crossings = more_crossings_than(prepared.unit, params.max_curves // 2)
-        if crossings is not None:
-            raise SketchError(f"the strokes cross each other over {crossings} times, too "
-                              f"tangled for max_curves = {params.max_curves}: simplify it "
-                              "in parts")
+    """Stage 3: the base complex of the strokes (:mod:`core.complex`, paper 3.1).
+
+    ``params.max_curves`` bounds each drawing part (:func:`core.io.cleaning.drawing_parts`:
+    ink apart from the rest, as the drawings of a page are), before noding by its strokes'
+    crossings and after by its curves: the merge loop's cost grows with a part's
+    tangle, and a page of many drawings, each within the limit, is simplified whole. A
+    part over it is refused by a message that names it, where it lies and how to split it.
+    """
+    limit = params.max_curves
+    labels, areas = drawing_part_areas(prepared.unit) if limit is not None else (None, None)
+    if limit is not None:
+        for part in range(len(areas)):
+            crossings = more_crossings_than(
+                [s for s, k in zip(prepared.unit, labels.tolist()) if k == part], limit // 2)
+            if crossings is not None:
+                raise SketchError(_too_tangled(prepared, labels, part,
+                                               f"crosses itself over {crossings} times", limit))
     cx = build_base_complex(prepared.unit)
-    if params.max_curves is not None and cx.num_curves > params.max_curves:
-        raise SketchError(f"the strokes cross into {cx.num_curves} curves, more than the "
-                          f"{params.max_curves} allowed (max_curves): simplify it in parts")
+    if limit is not None and cx.num_curves > limit:
+        firsts = shapely.points(np.array([c[0] for c in cx.curves]))
+        curve, part = shapely.STRtree(areas).query(firsts, predicate="intersects")
+        per_part = np.bincount(part[np.unique(curve, return_index=True)[1]],
+                               minlength=len(areas))
+        if per_part.max() > limit:
+            worst = int(np.argmax(per_part))
+            raise SketchError(_too_tangled(prepared, labels, worst,
+                                           f"crosses into {per_part[worst]} curves", limit))
     return cx
+
+
+def _too_tangled(prepared: Prepared, labels: np.ndarray, part: int, how: str, limit: int
+                 ) -> str:
+    """The message for a drawing part over ``max_curves``: which part, where, how to split."""
+    mine = np.flatnonzero(labels == part)
+    box = np.concatenate([prepared.norm.from_unit(prepared.unit[k]) for k in mine])
+    (x0, y0), (x1, y1) = box.min(axis=0), box.max(axis=0)
+    parts = int(labels.max()) + 1
+    where = f"drawing part {part + 1} of {parts} " if parts > 1 else "the drawing "
+    return (f"{where}({len(mine)} strokes, x {x0:.4g} to {x1:.4g}, y {y0:.4g} to {y1:.4g}) "
+            f"{how}: too tangled to simplify at once (max_curves = {limit}). Simplify its "
+            "strokes a few at a time: in Blender, select some and run with Selected "
+            "Strokes; from the command line, split the file")
 
 
 @dataclass

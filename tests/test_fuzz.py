@@ -44,10 +44,31 @@ def test_a_stroke_shaking_across_itself_is_refused_quickly():
     t = np.linspace(0, 2 * np.pi, 20_000)
     shake = np.random.default_rng(1).normal(0, 0.05, (len(t), 2))
     stroke = np.stack([np.cos(t), np.sin(t)], axis=1) + shake
-    with pytest.raises(SketchError, match="cross each other"):
+    with pytest.raises(SketchError, match="crosses itself over"):
         simplify(Sketch([Stroke(stroke)]))
     # the limit follows max_curves, and None lifts it (checked on a small tangle)
     small = stroke[:60]
-    with pytest.raises(SketchError, match="cross each other"):
+    with pytest.raises(SketchError, match="crosses itself over"):
         simplify(Sketch([Stroke(small)]), SimplifyParams(max_curves=40))
     assert simplify(Sketch([Stroke(small)]), SimplifyParams(max_curves=None)).strokes
+
+
+def _tangle(n: int, seed: int) -> list[np.ndarray]:
+    """``n`` random straight strokes across a unit square: about n^2 / 4 crossings."""
+    rng = np.random.default_rng(seed)
+    return [np.array([rng.uniform(0, 1, 2), rng.uniform(0, 1, 2)]) for _ in range(n)]
+
+
+def test_max_curves_bounds_each_drawing_of_a_page_not_the_page():
+    """A page of three separate tangles, each within max_curves and all three over it, is
+    simplified (issue 50: seventeen product sketches side by side were refused); one
+    tangle over it is refused by a message naming it, where it lies and how to split."""
+    page = [s + [3.0 * k, 0.0] for k in range(3) for s in _tangle(14, k)]
+    one = simplify(Sketch([Stroke(s) for s in page[:14]]), SimplifyParams(max_curves=None))
+    curves = one.counts["before"]["curves"]
+    limit = int(1.5 * curves)
+    assert simplify(Sketch([Stroke(s) for s in page]), SimplifyParams(max_curves=limit)).strokes
+    tangled = page[:28] + [s + [6.0, 0.0] for s in _tangle(30, 9)]
+    with pytest.raises(SketchError, match=r"drawing part 3 of 3 \(30 strokes, x 6.*Selected "
+                                          r"Strokes"):
+        simplify(Sketch([Stroke(s) for s in tangled]), SimplifyParams(max_curves=limit))

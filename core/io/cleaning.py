@@ -13,7 +13,8 @@ from ..sketch import Sketch, SketchError, Stroke
 
 __all__ = [
     "DRAWING_REACH", "MAX_INK_DIAGONALS", "MIN_STROKE_SHARE", "PARTS_APART", "clean_sketch",
-    "clean_stroke", "CleaningReport", "drawing_box", "drawing_parts", "drawing_strokes",
+    "clean_stroke", "CleaningReport", "drawing_box", "drawing_part_areas", "drawing_parts",
+    "drawing_strokes",
     "Normalisation", "normalised_strokes",
 ]
 
@@ -188,23 +189,40 @@ def drawing_parts(strokes: list[np.ndarray]) -> np.ndarray:
     >>> drawing_parts(cross + [s + [1.5, 0.0] for s in cross]).tolist()  # 0.5 apart
     [0, 0, 0, 0]
     """
+    return _parts(*_boxes_and_lengths(strokes))[0]
+
+
+def drawing_part_areas(strokes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`drawing_parts`' labels, and each part's area (shapely polygons, by label):
+    disjoint, each holding its strokes whole, so that whatever lies on a stroke (a curve
+    of the complex) is found in its part's area.
+
+    >>> t = np.linspace(0, 1, 50)[:, None]
+    >>> cross = [np.hstack([t, t]), np.hstack([t, 1 - t])]
+    >>> labels, areas = drawing_part_areas(cross + [s + [3.0, 0.0] for s in cross])
+    >>> labels.tolist(), [round(a.centroid.x, 6) for a in areas]
+    ([0, 0, 1, 1], [0.5, 3.5])
+    """
     return _parts(*_boxes_and_lengths(strokes))
 
 
-def _parts(boxes: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+def _parts(boxes: np.ndarray, lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     half = 0.5 * PARTS_APART * float(np.median(lengths))
     label = np.zeros(len(boxes), dtype=np.intp)
+    everything = np.array([shapely.box(*boxes[:, :2].min(axis=0), *boxes[:, 2:].max(axis=0))]
+                          if len(boxes) else [], dtype=object)
     if not half > 0:  # most strokes points: no length to judge a gap by
-        return label
+        return label, everything
     grown = shapely.box(*(boxes[:, :2] - half).T, *(boxes[:, 2:] + half).T)
     parts = shapely.get_parts(shapely.union_all(grown))
     if len(parts) <= 1:
-        return label
+        return label, np.array([shapely.union_all(grown)], dtype=object)
     centres = shapely.points(0.5 * (boxes[:, :2] + boxes[:, 2:]))
     stroke, part = shapely.STRtree(parts).query(centres, predicate="intersects")
     label[stroke] = part
     _, first, inverse = np.unique(label, return_index=True, return_inverse=True)
-    return np.argsort(np.argsort(first))[inverse].astype(np.intp)
+    order = np.argsort(first)  # parts by their first strokes
+    return np.argsort(order)[inverse].astype(np.intp), parts[np.unique(label)[order]]
 
 
 def _main_part(labels: np.ndarray, lengths: np.ndarray) -> int:
@@ -244,7 +262,7 @@ def drawing_box(strokes: list[np.ndarray]) -> np.ndarray:
     [0.0, 0.0, 1.0, 1.0]
     """
     boxes, lengths = _boxes_and_lengths(strokes)
-    labels = _parts(boxes, lengths)
+    labels = _parts(boxes, lengths)[0]
     if labels.max() > 0:
         mine = labels == _main_part(labels, lengths)
         strokes, boxes = [s for s, m in zip(strokes, mine.tolist()) if m], boxes[mine]
