@@ -85,8 +85,10 @@ def s_curve(offset: float, seed: int) -> np.ndarray:
     return np.concatenate([top, bottom]) + offset + rng.normal(0, 0.3, (160, 2))
 
 
-@pytest.mark.xfail(strict=True, reason="issue 51: a bowl about two bundle widths round is cut at "
-                   "'corners' (turning over 70 degrees within 2 d_eps)")
+@pytest.mark.xfail(strict=True, reason="issue 51: the outer pass, 2.3 d_eps from the spine (the "
+                   "longest pass), lies outside the centreline's reach (member_reach) along the "
+                   "top bowl: the line runs between the other two, and pass 8 draws that "
+                   "stretch of the outer pass again")
 def test_a_cursive_s_drawn_as_three_passes_keeps_both_bowls_round():
     out = lines_of([s_curve(k * 0.006 * D, k) for k in range(3)])
     assert len(out) == 1
@@ -107,7 +109,8 @@ def test_a_ts_stem_ends_on_the_bar():
 
 
 @pytest.mark.xfail(strict=True, reason="issue 51: a loop two bundle widths wide is cut "
-                   "at 'corners' and comes out open")
+                   "at 'corners' (pass 1), and a spine shorter than loop_length (6 d_eps) never "
+                   "closes: both keep it open")
 def test_an_eye_drawn_as_three_passes_beside_a_face_stays_one_closed_loop():
     """An eye, a loop 2% of the diagonal wide drawn round three times a little apart,
     inside a face outline drawn twice: the eye is one closed line."""
