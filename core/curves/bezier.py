@@ -124,33 +124,50 @@ def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) ->
     return corners
 
 
+#: a piece of n samples is smoothed by a sigma of at most n / SIGMA_SHARE samples: as much
+#: as a quarter turn of a circle n samples round allows (sigma at most half its radius,
+#: which shrinks it by at most 12%), so that no amount of smoothing flattens a short
+#: piece into its chord or a small ring into a lemon: smoothing is monotone, and stops
+#: where the line's own size says
+SIGMA_SHARE = 4 * np.pi
+
+
 def smooth_between_corners(points: np.ndarray, sigma: float, corners: list[int],
                            closed: bool = False) -> np.ndarray:
     """An evenly spaced polyline smoothed by a Gaussian of ``sigma`` samples, piece by piece
     between its ``corners`` (indices), which stay where they are, as do the ends of an open
     polyline: each piece is mirrored through its ends (2 p0 - p), so that a straight end
     stays straight and does not shrink. A closed polyline without corners wraps round.
+    Each piece's sigma is at most its samples over :data:`SIGMA_SHARE`: more smoothing
+    never makes a line less smooth, nor a short piece a chord.
 
-    >>> line = np.column_stack([np.arange(6.0), [0, 0, 1, 0, 0, 0.0]])
-    >>> smooth_between_corners(line, 1.0, []).round(2)[[0, 2, 5]].tolist()
-    [[0.0, 0.0], [2.0, 0.4], [5.0, 0.0]]
+    >>> line = np.column_stack([np.arange(60.0), np.r_[[0, 0, 1], np.zeros(57)]])
+    >>> smooth_between_corners(line, 1.0, []).round(2)[[0, 2, 59]].tolist()
+    [[0.0, 0.0], [2.0, 0.4], [59.0, 0.0]]
+    >>> t = np.linspace(0, 2 * np.pi, 41)  # a ring 40 samples round: sigma at most 3.2
+    >>> ring = np.column_stack([np.cos(t), np.sin(t)])
+    >>> [round(float(np.hypot(*smooth_between_corners(ring, s, [], True)[0])), 3)
+    ...  for s in (1.0, 3.0, 30.0)]
+    [0.988, 0.896, 0.884]
     """
     if sigma <= 0 or len(points) < 3:
         return points
-    half = int(np.ceil(3 * sigma))
     if closed and not corners:
-        return smoothed_ring(points, sigma) if len(points) - 1 > half else points
+        ring_sigma = min(sigma, (len(points) - 1) / SIGMA_SHARE)
+        return smoothed_ring(points, ring_sigma) if ring_sigma > 0 else points
     out = points.copy()
     bounds = [0, *sorted(set(corners)), len(points) - 1]
     for a, b in zip(bounds[:-1], bounds[1:]):
         piece = points[a:b + 1]
-        if len(piece) < 3:
+        piece_sigma = min(sigma, len(piece) / SIGMA_SHARE)
+        half = int(np.ceil(3 * piece_sigma))
+        if len(piece) < 3 or half < 1:
             continue
         h = min(half, len(piece) - 1)
         head = 2 * piece[0] - piece[h:0:-1]
         tail = 2 * piece[-1] - piece[-2:-2 - h:-1]
         pad = np.concatenate([head, piece, tail])
-        k = gaussian_kernel(sigma, h)
+        k = gaussian_kernel(piece_sigma, h)
         smooth = np.column_stack([np.convolve(pad[:, d], k, mode="valid") for d in (0, 1)])
         out[a + 1:b] = smooth[1:-1]
     return out
