@@ -16,18 +16,24 @@ from dataclasses import replace
 
 import numpy as np
 
-from .engine import Recorded
+from .engine import Recorded, Simplified
 from .params import EPSILON_SOFT_MAX, SimplifyParams
 from .simplify import SimplifyResult, from_record, simplify
 from .sketch import Sketch, Stroke
 
-__all__ = ["COVERED_EPSILON", "ReplayCache", "sketch_digest"]
+__all__ = ["COVERED_EPSILON", "OUTPUT_POINTS", "ReplayCache", "sketch_digest"]
 
 #: the epsilon a run asked for above what is kept covers: the whole slider, so that only
 #: the first step up runs again (with 0.03, every step above it ran from scratch: 30 s on
 #: a 5,000-stroke drawing). A first run covers only its own epsilon: taken to 0.06 it
 #: cost 1.26 times the core's run in Blender (docs/decisions.md)
 COVERED_EPSILON = EPSILON_SOFT_MAX
+
+#: output points kept for lookups (an epsilon already shown, for every drawing of a shot):
+#: at most this many, over all kept outputs, the least recently used dropped first. With
+#: their Beziers and attributes about 100 MB; a 13-keyframe shot of product sketches
+#: shows about 25 epsilons of it
+OUTPUT_POINTS = 4_000_000
 
 
 def sketch_digest(sketch: Sketch) -> str:
@@ -52,12 +58,16 @@ class ReplayCache:
     step then costs, per drawing, the base complex built again, the replay and the output
     stage; the merge loop is not run again)."""
 
-    def __init__(self, size: int = 8, records: int = 512) -> None:
+    def __init__(self, size: int = 8, records: int = 512,
+                 output_points: int = OUTPUT_POINTS) -> None:
         self.size = size
         self.records = records
+        self.output_points = output_points
         self.runs = 0  # how many times simplify actually ran
         self._results: OrderedDict[tuple, SimplifyResult] = OrderedDict()
         self._records: OrderedDict[tuple, Recorded] = OrderedDict()
+        self._outputs: OrderedDict[tuple, tuple[Simplified, int]] = OrderedDict()
+        self._output_points = 0
 
     @staticmethod
     def _key(sketch: Sketch, params: SimplifyParams) -> tuple:
@@ -109,6 +119,37 @@ class ReplayCache:
         while len(self._results) > self.size:
             self._results.popitem(last=False)
         return cached if cached.params.epsilon == params.epsilon else cached.at(params.epsilon)
+
+    def output(self, sketch: Sketch, params: SimplifyParams, regions: bool
+               ) -> Simplified | None:
+        """The output kept for ``sketch`` at exactly ``params`` (epsilon too) and
+        ``regions``, or None: a step back to an epsilon already shown is a lookup."""
+        key = (sketch_digest(sketch), params, regions)
+        kept = self._outputs.get(key)
+        if kept is None:
+            return None
+        self._outputs.move_to_end(key)
+        return kept[0]
+
+    def keep_output(self, sketch: Sketch, params: SimplifyParams, regions: bool,
+                    out: Simplified) -> None:
+        """Keep ``out`` (without its record) for :meth:`output`, within
+        :attr:`output_points` points over all kept outputs."""
+        key = (sketch_digest(sketch), params, regions)
+        points = sum(len(s.points) for s in out.strokes) + 1
+        if key in self._outputs:
+            self._output_points -= self._outputs.pop(key)[1]
+        self._outputs[key] = (replace(out, record=None), points)
+        self._output_points += points
+        while self._output_points > self.output_points and len(self._outputs) > 1:
+            self._output_points -= self._outputs.popitem(last=False)[1][1]
+
+    def clear(self) -> None:
+        """Forget everything kept (results, records, outputs)."""
+        self._results.clear()
+        self._records.clear()
+        self._outputs.clear()
+        self._output_points = 0
 
     def strokes(self, sketch: Sketch, params: SimplifyParams) -> list[Stroke]:
         return self.result(sketch, params).strokes

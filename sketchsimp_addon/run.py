@@ -12,6 +12,7 @@ import time
 from dataclasses import replace
 
 from ..core import (
+    COVERED_EPSILON,
     ReplayCache,
     SimplifyParams,
     SketchError,
@@ -124,10 +125,15 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
 def simplified_here(sketch, params: SimplifyParams, fills: bool):
     """One drawing simplified in this process through :data:`REPLAY` (a new epsilon for
     the same drawing is a replay), or its :class:`SketchError`."""
+    kept = REPLAY.output(sketch, params, fills)
+    if kept is not None:
+        return kept
     try:
-        return simplified(REPLAY.result(sketch, params), fills)
+        out = simplified(REPLAY.result(sketch, params), fills)
     except SketchError as exc:
         return exc
+    REPLAY.keep_output(sketch, params, fills, out)
+    return out
 
 
 class StepwiseRun:
@@ -202,23 +208,28 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
             outputs.append(simplified_here(item.sketch, params, fills))
             if progress is not None:
                 progress((k + 1) / len(prepared))
-    else:  # a pool; an epsilon step in the redo panel replays kept results here, and
-        # rebuilds the drawings whose merge records are kept, in the pool
-        todo = [k for k, p in enumerate(prepared) if not REPLAY.has_result(p.sketch, params)]
+    else:  # a pool; an epsilon step in the redo panel looks up the outputs of an epsilon
+        # already shown, replays kept results here, and rebuilds the drawings whose merge
+        # records are kept, in the pool. A shot's first run covers the slider's whole range
+        # (COVERED_EPSILON), so that no step up runs a merge loop again
+        outputs = [REPLAY.output(p.sketch, params, fills) for p in prepared]
+        todo = [k for k, p in enumerate(prepared)
+                if outputs[k] is None and not REPLAY.has_result(p.sketch, params)]
         pooled = simplify_all([prepared[k].sketch for k in todo], params, jobs,
                               None if progress is None else lambda done, total, _k:
                               progress(done / len(prepared)), regions=fills,
-                              cover=max(REPLAY.cover(prepared[k].sketch, params)
-                                        for k in todo),
+                              cover=max(params.epsilon, COVERED_EPSILON),
                               records=[REPLAY.recorded(prepared[k].sketch, params)
                                        for k in todo], pool=pool) if todo else []
-        outputs = [None] * len(prepared)
         for k, out in zip(todo, pooled):
-            if not isinstance(out, SketchError) and out.record is not None:
-                REPLAY.remember(prepared[k].sketch, params, out.record)
+            if not isinstance(out, SketchError):
+                if out.record is not None:
+                    REPLAY.remember(prepared[k].sketch, params, out.record)
+                REPLAY.keep_output(prepared[k].sketch, params, fills, out)
             outputs[k] = out
-        for k in sorted(set(range(len(prepared))) - set(todo)):
-            outputs[k] = simplified_here(prepared[k].sketch, params, fills)
+        for k in range(len(prepared)):
+            if outputs[k] is None:
+                outputs[k] = simplified_here(prepared[k].sketch, params, fills)
     results = results_of(obj, options, gathered, outputs, report)
     report.seconds = time.perf_counter() - t0
     return report, results

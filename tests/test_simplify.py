@@ -1057,3 +1057,30 @@ def test_strokes_fitted_together_move_each_as_it_would_fitted_alone():
         assert np.array_equal(motion.turn, alone.turn)
         assert np.array_equal(motion.shift, alone.shift)
     assert together[-1] is STILLNESS and not np.allclose(together[0].shift, 0.0)
+
+
+def test_an_epsilon_already_shown_is_a_lookup_within_the_output_budget():
+    """The redo panel's step back (issue 50, item 2): the output of a sketch at params
+    already asked is kept and looked up, not replayed; the outputs kept are bounded by
+    their points, the least recently used dropped first."""
+    from core import ReplayCache
+    from core.engine import simplified
+
+    sketches = [Sketch([Stroke(wobbly((0, 0), (100, 0), dy)) for dy in (0, 1.5)]),
+                Sketch([Stroke(wobbly((0, 50), (100, 80), dy)) for dy in (0, 1.0)])]
+    params = SimplifyParams()
+    cache = ReplayCache(output_points=10_000)
+    assert cache.output(sketches[0], params, False) is None
+    out = simplified(cache.result(sketches[0], params), False)
+    cache.keep_output(sketches[0], params, False, out)
+    runs = cache.runs
+    assert cache.output(sketches[0], params, False).strokes is out.strokes
+    assert cache.output(sketches[0], params, True) is None  # fills asked: not the same
+    assert cache.output(sketches[0], replace(params, epsilon=0.01), False) is None
+    assert cache.runs == runs
+    small = ReplayCache(output_points=sum(len(s.points) for s in out.strokes) + 1)
+    small.keep_output(sketches[0], params, False, out)
+    small.keep_output(sketches[1], params, False,
+                      simplified(cache.result(sketches[1], params), False))
+    assert small.output(sketches[0], params, False) is None  # dropped: over the budget
+    assert small.output(sketches[1], params, False) is not None
