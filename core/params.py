@@ -27,214 +27,186 @@ MIN_ALPHA = 1e-4
 
 @dataclass(frozen=True)
 class Tuning:
-    """The tuned numbers of the pipeline, in one place: each field says what it decides and
-    where ``docs/decisions.md`` gives its measure (the entry named after ``decisions:``;
-    "Where each tuned number comes from" lists those set by reasoning alone). Fractions
-    of the diagonal are marked D; lengths in bundle widths, d_eps. A field is read for one
-    purpose, by the passes named.
+    """The tuned numbers of the pipeline, in one place. Each field's ``#:`` comment says
+    what it decides and, after ``decisions:``, names the entry of ``docs/decisions.md``
+    that measured it ("Where each tuned number comes from": those set by reasoning). D:
+    a fraction of the drawing's diagonal; d_eps: the bundle width. Each field has one
+    purpose, read by the passes named.
 
     Left with the code they bound: resource and precision limits (memo sizes, chunks,
-    snapping grids, file-size caps, :data:`MIN_ALPHA`), the paper's own values
-    (:data:`PAPER_ALPHA`, the Fourier samples, :class:`SimplifyParams`), and the drawing
-    frame that every fraction of D is of (:mod:`core.io.cleaning`: what the scorer's D is
-    too). Stable Across Frames (:mod:`core.stable`) is a pass between a shot's drawings,
-    not of one drawing's simplification: its numbers are its module's.
+    the snapping grid, file caps, :data:`MIN_ALPHA`), the paper's own values
+    (:data:`PAPER_ALPHA`, the Fourier samples), the drawing frame every fraction of D is
+    of (:mod:`core.io.cleaning`), and Stable Across Frames (:mod:`core.stable`), a pass
+    between a shot's drawings.
     """
 
     # -- the width "auto" gives (SimplifyParams.resolved and widths) --
-    #: "auto" alpha is this many times the ink's spacing (:func:`ink_spacing`), between
-    #: PAPER_ALPHA and loose_alpha. decisions: "The auto width's bounds"
+    #: alpha is this many times the ink's spacing (:func:`ink_spacing`), from PAPER_ALPHA
+    #: to loose_alpha. decisions: "The auto width's bounds"
     spacing_share: float = 1.5
-    #: the widest "auto" alpha kept whatever its result (D). decisions: "The auto width's
-    #: bounds"
+    #: the widest alpha (D) kept whatever its result. decisions: "The auto width's bounds"
     loose_alpha: float = 0.015
-    #: a drawing whose ink's width (spacing_share times its spacing) is at least this (D)
-    #: is first tried that wide. decisions: "Wider where the ink allows"
+    #: an ink this wide (D, spacing_share times its spacing) or wider is first tried that
+    #: wide ... decisions: "Wider where the ink allows"
     wide_from: float = 0.02
-    #: ... at most this wide (D); each wider try is kept only where its result keeps the
-    #: ink (keep_reach). decisions: "Wider where the ink allows"
+    #: ... up to this (D), each try kept where it keeps the ink (keep_*). decisions:
+    #: "Wider where the ink allows"
     widest_alpha: float = 0.03
-    #: ... and not tried where more than this share of the ink lies in bands of lines a
-    #: bundle that wide cannot hold (:func:`banded_shares`: hatching, a spiral's arms).
-    #: decisions: "Wider where the ink allows"
+    #: ... unless over this share of the ink lies in bands a bundle that wide cannot hold
+    #: (:func:`banded_shares`: hatching). decisions: "Wider where the ink allows"
     wide_banded: float = 0.1
-    #: :func:`banded_shares` counts a pass crossing a section as running along its stroke
-    #: where the |cos| between them is at least this. decisions: "Wider where the ink allows"
+    #: a pass crossing a section runs along its stroke at |cos| at least this
+    #: (:func:`banded_shares`). decisions: "Wider where the ink allows"
     band_cos: float = 0.9
-    #: a band's passes wander across each other (one loose line, not hatching) where two
-    #: lie over half the width to either side of each other, each side along at least this
-    #: share of their way together (:func:`_swapping`). decisions: "Wider where the ink
-    #: allows"
+    #: a band's passes wander across each other (one loose line) where each lies over half
+    #: the width to both sides of the other along this share of their way. decisions:
+    #: "Wider where the ink allows"
     swap_share: float = 0.2
-    #: the cells that :func:`ink_spacing` counts (D). decisions: "The auto width's bounds"
+    #: the cells (D) :func:`ink_spacing` counts. decisions: "The auto width's bounds"
     ink_cell: float = 0.02
-    #: "auto" alpha is at most this share of the median stroke's length: a bundle is never
-    #: wider than half the strokes that make it are long. decisions: "Where each tuned
-    #: number comes from"
+    #: alpha is at most this share of the median stroke's length. decisions: "Where each
+    #: tuned number comes from"
     stroke_share: float = 0.5
     #: "auto" fill_gap is the ink's spacing, at most this share of d_eps. decisions: "the
     #: pen stage's join keeps each line whole"
     fill_gap_share: float = 0.7
 
     # -- a wider width's result kept (core.simplify) --
-    #: a wider width is kept where its result leaves at most keep_left of the drawing's ink
-    #: farther than this (D, or of the canvas's diagonal if smaller) from the output: the
-    #: measure ink kept, with a margin. decisions: "Wider where the ink allows"
+    #: kept where at most keep_left of the ink lies farther than this (D, or of the
+    #: canvas's diagonal if smaller) from it. decisions: "Wider where the ink allows"
     keep_reach: float = 0.02
     #: see keep_reach. decisions: "Wider where the ink allows"
     keep_left: float = 0.01
-    #: ... nor more than this share of any one stroke: a short detail at an angle to a line
-    #: (a stem, a tick), which a wider width trims as a spur, is a small share of the ink.
-    #: decisions: "Wider where the ink allows"
+    #: ... nor this share of one stroke (a stem, a tick trimmed as a spur). decisions:
+    #: "Wider where the ink allows"
     keep_stroke: float = 0.1
 
     # -- the merge (core.merge, paper 3.2) --
-    #: what a merge removes (a curve between two patches, a free curve) must lie within
-    #: this many d_eps of what stays (:mod:`core.merge.guard`). decisions: "Where each
-    #: tuned number comes from"
+    #: what a merge removes lies within this many d_eps of what stays
+    #: (:mod:`core.merge.guard`). decisions: "Where each tuned number comes from"
     guard_reach: float = 0.25
-    #: two curves run side by side (a curve-curve pair, paper 3.2.2) where at least this
-    #: share of the shorter lies within d_eps of the longer. decisions: "Where each tuned
-    #: number comes from"
+    #: a curve-curve pair is side by side where this share of the shorter lies within d_eps
+    #: of the longer (paper 3.2.2). decisions: "Where each tuned number comes from"
     side_share: float = 0.5
 
-    # -- the lines (core.lines): pieces and groups --
+    # -- the lines (core.lines): pieces and groups (passes 1-3) --
     #: a stroke is cut where it turns more than this (degrees) within cut_reach d_eps each
-    #: side: a corner drawn in one motion is two lines (pass 1). decisions: "the pen stage"
+    #: side: a corner drawn in one motion (pass 1). decisions: "the pen stage"
     cut_angle: float = 70.0
-    #: see cut_angle; 2: a corner drawn rounded (radius up to about 2 d_eps) is a corner too.
+    #: see cut_angle: a corner drawn rounded (radius up to about 2 d_eps) is one too.
     #: decisions: "the pen stage"
     cut_reach: float = 2.0
-    #: ink that comes back within follow_reach of a stroke's earlier ink, more than this
-    #: many follow_reach back along it, is the stroke drawn back over itself (a ring drawn
-    #: round twice): a new piece (pass 1). decisions: "Where each tuned number comes from"
+    #: ink coming back within follow_reach of a stroke's earlier ink, over this many
+    #: follow_reach back along it, is the stroke drawn over itself: a new piece (pass 1).
+    #: decisions: "Where each tuned number comes from"
     back: float = 4.0
-    #: pieces and output lines are sampled this many d_eps apart (every pass). decisions:
-    #: "Where each tuned number comes from"
+    #: pieces and lines are sampled this many d_eps apart (every pass). decisions: "Where
+    #: each tuned number comes from"
     sample: float = 0.25
-    #: a stroke's sample follows the complex's nearest alive curve within this many d_eps
-    #: (what merges keep lies within d_eps of what they removed) (passes 1-2). decisions:
-    #: "the pen stage"
+    #: a sample follows the nearest alive curve within this many d_eps (passes 1-2).
+    #: decisions: "the pen stage"
     follow_reach: float = 1.0
-    #: ... running along it: |cos| at least this (30 degrees, the merge angle); the same
-    #: test of "running along" wherever a pass asks it (passes 1, 2, 5, 8). decisions:
-    #: "the pen stage's join keeps each line whole"
+    #: ... running along it, |cos| at least this (the merge angle); every pass's test of
+    #: "running along" (passes 1, 2, 5, 8). decisions: "the pen stage's join keeps each line
+    #: whole"
     follow_cos: float = 0.866
-    #: two pieces that follow the same alive curves together are one line when they do
-    #: along this share of the shorter one's length (pass 3). decisions: "the pen stage"
+    #: two pieces following the same alive curves are one line along this share of the
+    #: shorter (pass 3). decisions: "the pen stage"
     shared_share: float = 0.5
     #: ... or this many d_eps long (pass 3). decisions: "the pen stage"
     shared_length: float = 2.0
-    #: ... overlapping where they follow a curve, or at most this many d_eps apart (pass 3).
-    #: decisions: "the pen stage"
+    #: ... overlapping, or at most this many d_eps apart (pass 3). decisions: "the pen stage"
     shared_gap: float = 1.0
 
-    # -- the lines: a group's fit (pass 4) and its checks --
-    #: a piece stays in its group when at least this share of it lies within member_reach
-    #: of the group's fitted line: the trade-off between whole lines and doubled ones.
-    #: decisions: "a page of drawings gives each the width it gets alone"
+    # -- the lines: a group's fit and its checks (passes 4, 8) --
+    #: a piece stays in its group where this share of it lies within member_reach of the
+    #: group's line: whole lines against doubled ones. decisions: "a page of drawings gives
+    #: each the width it gets alone"
     member_share: float = 0.5
-    #: how far off the middle a loose pass lies, d_eps: a piece's ink within this of its
-    #: line is that line's (pass 4), farther from every line it is a line of its own (pass
-    #: 8). decisions: "a piece the fitted line leaves from its middle draws another line"
+    #: how far off the middle a loose pass lies (d_eps): ink within it is the line's (pass
+    #: 4), beyond every line's a line of its own (pass 8). decisions: "a piece the fitted
+    #: line leaves from its middle draws another line"
     member_reach: float = 1.5
-    #: a piece extends the spine at an end where it parts from it within this many
-    #: member_reach of that end (pass 4, :func:`core.lines.fit.centreline`). decisions:
-    #: "Where each tuned number comes from"
-    end_zone: float = 2.0
-    #: ... and a spine closes into a loop only when longer than this many member_reach.
+    #: a piece parting from the spine within this many member_reach of its end extends it.
     #: decisions: "Where each tuned number comes from"
+    end_zone: float = 2.0
+    #: a spine closes into a loop only when longer than this many member_reach. decisions:
+    #: "Where each tuned number comes from"
     loop_length: float = 4.0
-    #: the centreline is fitted in bins this many d_eps long along its spine (passes 4, 8).
-    #: decisions: "ink no line stands for becomes a line"
+    #: the centreline's bins along its spine (d_eps). decisions: "ink no line stands for
+    #: becomes a line"
     bin: float = 0.25
-    #: ... and its offsets smoothed by a Gaussian of this sigma, d_eps (passes 4, 8).
-    #: decisions: "one output stage, lines from the pen"
+    #: ... and the Gaussian smoothing its offsets (sigma, d_eps). decisions: "one output
+    #: stage, lines from the pen"
     smooth: float = 0.5
-    #: a band free of ink between two inks parts two lines where it is wider than the
-    #: drawing's spacing of passes (fill_gap), or than this times the wider of the inks
-    #: beside it (two tight bundles drawn close: the width is local) (passes 4-6).
-    #: decisions: "groups split where a band free of ink runs all along them"
+    #: a band free of ink parts two lines where wider than fill_gap, or than this times the
+    #: wider ink beside it (passes 4-6). decisions: "groups split where a band free of ink
+    #: runs all along them"
     band_ratio: float = 1.0
-    #: ... and at least this many d_eps wide: two lines closer than half the width, fitted
-    #: as one, each lie within a quarter of d_eps of it. decisions: "groups split where a
-    #: band free of ink runs all along them"
+    #: ... and at least this many d_eps. decisions: "groups split where a band free of ink
+    #: runs all along them"
     band_floor: float = 0.5
-    #: a piece is judged by the band test where at least this many of its samples lie
-    #: beside the line (pass 4). decisions: "Where each tuned number comes from"
+    #: a piece with this many samples beside the line or more is judged by the band test
+    #: (pass 4). decisions: "Where each tuned number comes from"
     band_samples: int = 4
-    #: how far a line's own ink spreads from it: this percentile of its pieces' distances
-    #: to it (passes 5-6, :func:`core.lines.join.half_width`). decisions: "Where each tuned
-    #: number comes from"
+    #: a line's ink spreads from it by this percentile of its distances (passes 5-6).
+    #: decisions: "Where each tuned number comes from"
     spread_percentile: float = 90.0
 
     # -- the lines: joins and absorbs (passes 5, 6) --
-    #: pass 5 joins two fitted lines when this share of the shorter lies within d_eps of
-    #: the longer, running along it, where no clear band lies between their inks.
-    #: decisions: "groups split where a band free of ink runs all along them"
+    #: two lines are joined where this share of the shorter lies within d_eps of the
+    #: longer, running along it (pass 5). decisions: "groups split where a band free of ink
+    #: runs all along them"
     along_share: float = 0.6
-    #: rounds of pass 5's judging at most: joined lines may pair again with their
-    #: neighbours. decisions: "the pen stage's join run until a round joins nothing"
+    #: rounds of pass 5 at most. decisions: "the pen stage's join run until a round joins
+    #: nothing"
     join_rounds: int = 2
-    #: a join (pass 5) or an absorb (pass 6) stands where the joint line keeps each line in
-    #: place: join_share of each within this many d_eps of it; whole lines are judged within
-    #: about half a bundle width. decisions: "a line's end stretch drawn along another line"
+    #: a join or an absorb stands where the joint line keeps join_share of each line within
+    #: this many d_eps. decisions: "a line's end stretch drawn along another line"
     join_reach: float = 0.5
-    #: see join_reach; 0.8: a line kept whole, as the scorer counts one. decisions: "the pen
+    #: see join_reach: a line kept whole, as the scorer counts one. decisions: "the pen
     #: stage's join keeps each line whole"
     join_share: float = 0.8
     #: ... or where no other line lies within this many times the farthest move ...
-    #: (StrokeAggregator's judging against the local spacing of lines). decisions: "a join
-    #: or an absorb stands where the joint line keeps the lines in place, or lies apart"
+    #: decisions: "a join or an absorb stands where the joint line keeps the lines in place"
     apart: float = 3.0
-    #: ... along at least this share of the joint line: passes of one loose line drawn in
-    #: open paper. decisions: "a join or an absorb stands where the joint line keeps the
-    #: lines in place, or lies apart"
+    #: ... along this share of the joint line: one loose line in open paper. decisions: "a
+    #: join or an absorb stands where the joint line keeps the lines in place"
     apart_share: float = 0.5
-    #: a line shorter than this many d_eps is a crumb or a hook where every point lies
-    #: within absorb_reach of a longer line (pass 6), and is no line of its own where left
-    #: by its fit (passes 4, 8). decisions: "a piece the fitted line leaves from its middle"
+    #: a line shorter than this many d_eps is a crumb or hook, absorbed where within
+    #: absorb_reach of a longer line (pass 6), and no line of its own (passes 4, 8).
+    #: decisions: "a piece the fitted line leaves from its middle"
     crumb: float = 3.0
-    #: see crumb; within the bundle width, with a margin (pass 6). decisions: "a join or an
-    #: absorb stands where the joint line keeps the lines in place"
+    #: see crumb (d_eps). decisions: "a join or an absorb stands where the joint line keeps
+    #: the lines in place"
     absorb_reach: float = 0.75
 
-    # -- the lines: ink no line stands for (pass 8) --
-    #: stretches of ink that parted from the lines are one line where this share of the
-    #: shorter lies within member_reach of the other. decisions: "ink no line stands for
-    #: becomes a line"
+    # -- the lines: ink no line stands for (pass 8), junctions (pass 9) --
+    #: stretches that parted from the lines are one where this share of the shorter lies
+    #: within member_reach of the other. decisions: "ink no line stands for becomes a line"
     together_share: float = 0.5
-
-    # -- the lines: junctions (pass 9) --
-    #: an end within this many d_eps of another line meets it (T and L junctions; pass 8
-    #: leaves a new line's ends this close so that pass 9 meets them; pass 7's corners).
-    #: decisions: "one output stage, lines from the pen"
+    #: an end within this many d_eps of another line meets it (passes 7-9). decisions: "one
+    #: output stage, lines from the pen"
     snap: float = 1.0
-    #: an end that crosses another line and runs on past it at most this many d_eps is cut
-    #: at the crossing: an overshoot, not a line drawn through. decisions: "one output
-    #: stage, lines from the pen"
+    #: an end crossing a line and running on at most this many d_eps is cut there.
+    #: decisions: "one output stage, lines from the pen"
     overshoot: float = 2.0
-    #: the other line's direction at a junction is taken over this share of snap each side
-    #: of the foot: an end running along it meets nothing. decisions: "Where each tuned
-    #: number comes from"
+    #: the met line's direction is taken over this share of snap each side of the foot.
+    #: decisions: "Where each tuned number comes from"
     meet_tangent: float = 0.25
-    #: a line no longer than this many overshoots is not trimmed (a short line crossing
-    #: another is drawn, not overshot). decisions: "Where each tuned number comes from"
+    #: a line no longer than this many overshoots is not trimmed. decisions: "Where each
+    #: tuned number comes from"
     trim_length: float = 2.0
 
-    # -- fills (SimplifyResult.fill_regions, core.curves.fills) --
-    #: regions smaller than this share of the drawing's box are crumbs, not regions to fill
-    #: (slivers between close lines are left out by their width: fill_close). decisions:
-    #: "fills are the regions the clean lines close"
-    fill_min_share: float = 1e-5
-    #: two output lines that stop within twice this many d_eps of each other close a region
-    #: (the gap a junction of the clean lines may leave). decisions: "fills are the regions
-    #: the clean lines close"
-    fill_close: float = 0.25
-    #: ... and a free end is carried on this many d_eps, to the first line it meets: a line
-    #: may stop up to about a bundle width short of the line it meets where pass 9 found no
-    #: junction, two lines meeting at a corner up to twice that. decisions: "fills are the
+    # -- fills (SimplifyResult.fill_regions) --
+    #: regions under this share of the drawing's box are crumbs. decisions: "fills are the
     #: regions the clean lines close"
+    fill_min_share: float = 1e-5
+    #: lines stopping within twice this many d_eps of each other close a region.
+    #: decisions: "fills are the regions the clean lines close"
+    fill_close: float = 0.25
+    #: a free end is carried on this many d_eps to the line it meets. decisions: "fills are
+    #: the regions the clean lines close"
     fill_reach: float = 2.0
 
 
@@ -386,12 +358,7 @@ class SimplifyParams:
         bands of lines a bundle that wide cannot hold (:func:`banded_shares`), and each kept
         only where its result keeps the ink (``tuning.keep_reach``).
 
-        Why tried and checked: a loose drawing's passes lie farther apart than loose_alpha
-        (two passes 3% of the diagonal apart along a long line are one line drawn twice),
-        but a fixed cap above it merged the spiral test drawings' distinct arms and lost
-        their ink (kept 0.92 at 2%). Lines a width cannot hold as one bundle (hatching, a
-        spiral's arms) show in the ink before trying; a result that leaves ink out shows
-        after. Measured on 190 sketches: see :mod:`core.simplify`.
+        Why tried and checked: ``docs/decisions.md``, "Wider where the ink allows".
 
         >>> t = np.linspace(0, 1, 60)[:, None]
         >>> two = [np.hstack([t, 0.3 + 0 * t]), np.hstack([t, 0.33 + 0 * t])]

@@ -60,8 +60,8 @@ INF = math.inf
 #: a stale pair with a patch (PP, CP) is keyed by this fraction of the estimate its
 #: parents' costs give: the Fourier distance of a patch to its union with a small
 #: neighbour falls as the patch grows, so keyed lower, pairs that became cheap surface in
-#: time to be re-costed. 0.85 or 1.0 re-cost 7% or 12% fewer pairs on 14 median sketches,
-#: too little to be worth a study of what it changes.
+#: time to be re-costed (0.85 and 1.0 measured: docs/decisions.md, "Where each tuned
+#: number comes from")
 PP_ESTIMATE = 0.7
 
 #: pairs costed in one batch when the queue is first filled: a batch of 256 rings takes
@@ -70,9 +70,8 @@ COST_BATCH = 256
 
 #: queue entries looked at, when a stale curve-curve pair comes up, for the stale such
 #: pairs to cost with it in one batch: the ones next in line are the likeliest to be
-#: wanted before a merge removes one of their curves. On 14 median sketches this costs
-#: 4,511 pairs for the 4,050 wanted (every pair offered since the last costing: 11,251);
-#: 256 entries did 0.2% worse, their pops cost more than they saved.
+#: wanted before a merge removes one of their curves (measured: docs/decisions.md, "Where
+#: each tuned number comes from")
 CC_LOOK_AHEAD = 64
 
 
