@@ -99,6 +99,29 @@ def _spiral(rng_seed: int, n: int, turns: float) -> np.ndarray:
 random_sketch = st.lists(polyline, min_size=1, max_size=14)
 
 
+class OnCanvas(list):
+    """Strokes with the canvas their file says they were drawn on (``width``, ``height``):
+    a header may say anything, and memory must follow the ink, not the header."""
+
+    def __init__(self, strokes: list[np.ndarray], width: float, height: float) -> None:
+        super().__init__(strokes)
+        self.width, self.height = width, height
+
+
+def _on_canvas(strokes: list[np.ndarray], scale: float, share: float) -> OnCanvas:
+    scaled = [s * scale for s in strokes]
+    extent = max(float(np.ptp(np.concatenate(scaled), axis=0).max()), 1e-300)
+    return OnCanvas(scaled, extent * share, extent * share)
+
+
+#: a drawing at any scale on a canvas the header says is far smaller than its ink (down to
+#: a millionth: an SVG viewBox of 0 0 1 1 over paths 1000 long, a .scap header of 1000 over
+#: ink 1e8 across), or far larger
+small_canvas = st.builds(_on_canvas, st.lists(polyline, min_size=2, max_size=10),
+                         st.sampled_from([1.0, 1e3, 1e8]),
+                         st.sampled_from([1e-6, 1e-3, 0.1, 10.0]))
+
+
 def _poison(strokes: list[np.ndarray], where) -> list[np.ndarray]:
     out = [s.copy() for s in strokes]
     for k, axis, value in where:
@@ -120,6 +143,7 @@ KINDS = {
     "NaN and inf mixed in": (non_finite, 1.0),
     "ink far away, a billion long or tiny": (far_ink, 1.0),
     "one stroke of 100,000 points": (long_stroke, 0.01),
+    "a canvas far smaller or larger than its ink": (small_canvas, 1.0),
     "random": (random_sketch, 1.0),
 }
 
@@ -145,7 +169,8 @@ def check(strokes: list[np.ndarray], params: SimplifyParams | None = None) -> st
     """Simplify one sketch: 'simplified' or 'refused' (a SketchError); anything else,
     an exception or a broken invariant, is a failure and raises."""
     try:
-        sketch = Sketch([Stroke(s) for s in strokes])
+        sketch = Sketch([Stroke(s) for s in strokes], getattr(strokes, "width", None),
+                        getattr(strokes, "height", None))
         result = simplify(sketch, params)
     except SketchError:
         return "refused"
