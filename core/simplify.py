@@ -96,16 +96,17 @@ def build_complex(prepared: Prepared, params: ResolvedParams) -> BaseComplex:
     part over it is refused by a message that names it, where it lies and how to split it.
     """
     limit = params.max_curves
-    labels, areas = drawing_part_areas(prepared.unit) if limit is not None else (None, None)
-    if limit is not None:
-        for part in range(len(areas)):
-            crossings = more_crossings_than(
-                [s for s, k in zip(prepared.unit, labels.tolist()) if k == part], limit // 2)
-            if crossings is not None:
-                raise SketchError(_too_tangled(prepared, labels, part,
-                                               f"crosses itself over {crossings} times", limit))
+    if limit is None:
+        return build_base_complex(prepared.unit)
+    labels, areas = drawing_part_areas(prepared.unit)
+    order = np.argsort(labels, kind="stable")  # each part's strokes, in one pass
+    for part, members in enumerate(np.split(order, np.cumsum(np.bincount(labels))[:-1])):
+        crossings = more_crossings_than([prepared.unit[k] for k in members], limit // 2)
+        if crossings is not None:
+            raise SketchError(_too_tangled(prepared, labels, part,
+                                           f"crosses itself over {crossings} times", limit))
     cx = build_base_complex(prepared.unit)
-    if limit is not None and cx.num_curves > limit:
+    if cx.num_curves > limit:
         firsts = shapely.points(np.array([c[0] for c in cx.curves]))
         curve, part = shapely.STRtree(areas).query(firsts, predicate="intersects")
         per_part = np.bincount(part[np.unique(curve, return_index=True)[1]],
