@@ -197,6 +197,14 @@ class Tuning:
     #: a line no longer than this many overshoots is not trimmed. decisions: "Where each
     #: tuned number comes from"
     trim_length: float = 2.0
+    #: an end meeting a line that it would not meet carried straight on is bent onto the
+    #: line's nearest point over this many times its gap (pass 9). decisions: "an end meets
+    #: a line carried straight on, or bent gently"
+    meet_bend: float = 4.0
+    #: an end whose straight join to a line's nearest point would turn by more than this
+    #: (degrees) is bent onto it instead; a smaller turn is a corner the join keeps (pass
+    #: 9). decisions: "an end meets a line carried straight on, or bent gently"
+    meet_turn: float = 90.0
 
     # -- fills (SimplifyResult.fill_regions) --
     #: regions under this share of the drawing's box are crumbs. decisions: "fills are the

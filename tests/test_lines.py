@@ -374,3 +374,58 @@ def test_more_smoothing_never_flattens_a_shape_nor_makes_it_less_smooth():
         turns.append(turning([np.asarray(line.coords)], 2.0))
         assert devs[-1] < 0.6 * result.bundle_width, (smoothing, devs)
     assert all(b <= a * 1.05 + 1e-3 for a, b in zip(turns, turns[1:])), turns
+
+
+def test_an_end_short_of_a_line_at_a_slant_is_carried_straight_on_to_it():
+    """A stem meeting a bar at 45 degrees, stopping short of it: its end meets the bar
+    where the stem carried on would, with no kink (it used to gain a segment to the bar's
+    nearest point, a 45-degree turn no pen drew)."""
+    from core.lines.junctions import Meeting, meet_at_junctions
+
+    bar = resample_polyline(np.array([[0.0, 0.0], [20.0, 0.0]]), 0.25)
+    stem = resample_polyline(np.array([[10.0, 0.6], [16.0, 6.6]]), 0.25)
+    out, meets = meet_at_junctions([bar, stem], [False, False],
+                                   Meeting(reach=1.0, over=2.0, cos_max=0.87, spacing=0.25))
+    assert meets[1] == (0, None)
+    assert out[1][0] == pytest.approx([9.4, 0.0], abs=1e-6)
+    heading = np.degrees(np.arctan2(*np.diff(out[1], axis=0).T[::-1]))
+    assert np.ptp(heading) < 1.0
+
+
+def test_an_end_whose_straight_join_would_turn_back_is_bent_onto_the_line_gently():
+    """A stem running 0.8 above a bar that curls up and away at its end, stopping 1.6
+    above it: carried straight on it misses the bar, and a straight join to the bar's
+    nearest point would turn back by 117 degrees (a hook). It meets the bar by a bend,
+    turning nowhere more sharply than the stem itself does (53 degrees); without the bend
+    (``bend=0``) the join turns by 72 degrees at a sample."""
+    from core.lines.junctions import Meeting, meet_at_junctions
+
+    def sharpest(p: np.ndarray) -> float:
+        d = np.diff(p, axis=0)
+        return float(np.degrees(np.abs(np.diff(np.unwrap(np.arctan2(d[:, 1], d[:, 0])))))
+                     .max())
+
+    bar = resample_polyline(np.array([[0.0, 0.0], [20.0, 0.0]]), 0.25)
+    stem = resample_polyline(np.array([[10.4, 1.6], [11.0, 0.8], [18.0, 0.8]]), 0.25)
+    results = {}
+    for bend in (Meeting.bend, 0.0):
+        how = Meeting(reach=2.0, over=2.0, cos_max=0.95, spacing=0.25, bend=bend)
+        out, meets = meet_at_junctions([bar, stem], [False, False], how)
+        assert meets[1] == (0, None) and abs(out[1][0][1]) < 1e-9
+        results[bend] = sharpest(out[1])
+    assert results[Meeting.bend] <= sharpest(stem) + 1e-6 < results[0.0], results
+
+
+def test_a_pass_crossing_a_lines_end_does_not_carry_the_line_round_a_corner():
+    """Two passes of an edge and, grouped with them, a pass crossing the edge's end at a
+    right angle: the centreline stays on the edge (the crossing pass turns off there,
+    sharper than a corner pass 1 would cut; it is another line)."""
+    from core.lines.fit import centreline
+
+    x = np.linspace(0.0, 10.0, 41)
+    edge = [np.c_[x, np.full_like(x, y)] for y in (-0.05, 0.05)]
+    y = np.linspace(-0.3, 6.0, 26)
+    cross = np.c_[np.full_like(y, 9.8), y]
+    line, closed = centreline([*edge, cross], 0.3, 0.25, 0.25, 0.1)
+    assert not closed
+    assert np.abs(line[:, 1]).max() < 0.35

@@ -4,7 +4,9 @@ at once, and each group checked by its fit.
 The centreline (StrokeStrip's view, simplified: a cluster's strokes parameterize along
 one curve): a *spine* is grown from the group's longest piece, each other piece attached
 where it runs within ``member_reach`` d_eps of it, its parts beyond the spine's ends
-extending it (a piece that leaves one end and comes back to the other closes it: a circle
+extending it where the piece heads the spine's way there (within ``tuning.cut_angle``; one
+that crosses the end at a corner is another line; a piece that leaves one end and comes
+back to the other closes it: a circle
 drawn as loose arcs). Then, twice, the median of the ink's offsets from the spine is taken
 in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the line off the
 others) and smoothed over ``tuning.smooth`` d_eps: the line runs through the middle of
@@ -58,12 +60,36 @@ def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(firsts.tolist(), lasts.tolist()))
 
 
+def _runs_on_from(line: np.ndarray, run: np.ndarray, reach: float, cos_min: float) -> bool:
+    """Whether ``run``, the stretch of a piece lying along ``line`` up to where the line
+    ends, heads the way the line does there: the chord of its last ``reach`` turns from
+    the chord of the line's last ``reach`` by less than the corner angle whose cosine is
+    ``cos_min``. A piece that heads on along the line and then curls carries it on; one
+    that only crosses the line's end (at a corner, or more) is another line, as pass 1
+    cuts a stroke at a corner.
+
+    >>> line = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> _runs_on_from(line, np.array([[1.0, 0.1], [2.0, 0.1]]), 1.0, 0.34)
+    True
+    >>> _runs_on_from(line, np.array([[2.0, -0.3], [2.0, 0.3]]), 1.0, 0.34)  # crosses it
+    False
+    """
+    def chord(p: np.ndarray) -> np.ndarray:
+        s = arc_lengths(p)
+        return p[-1] - p[max(int(np.searchsorted(s, s[-1] - reach, side="right")) - 1, 0)]
+
+    a, b = chord(line), chord(run)
+    na, nb = np.hypot(*a), np.hypot(*b)
+    return bool(na == 0 or nb == 0 or a @ b >= cos_min * na * nb)
+
+
 def _attach(spine: np.ndarray, piece: np.ndarray, reach: float, end_zone: float,
-            loop_length: float) -> tuple[np.ndarray, bool] | None:
+            loop_length: float, cos_min: float = -1.0) -> tuple[np.ndarray, bool] | None:
     """The spine with ``piece`` attached (see the module), and whether it closed; None
     where the piece does not run along it. The piece extends an end where it parts from
-    the spine within ``end_zone`` of it, and closes the spine where it comes back within
-    ``end_zone`` of the other end of a spine longer than ``loop_length``."""
+    the spine within ``end_zone`` of it heading the spine's way (:func:`_runs_on_from`
+    with ``cos_min``), and closes the spine where it comes back within ``end_zone`` of the
+    other end of a spine longer than ``loop_length``."""
     gap = np.maximum(0.0, np.maximum(piece.min(axis=0) - spine.max(axis=0),
                                      spine.min(axis=0) - piece.max(axis=0)))
     if np.hypot(*gap) > reach:  # their boxes lie farther apart than reach
@@ -84,19 +110,22 @@ def _attach(spine: np.ndarray, piece: np.ndarray, reach: float, end_zone: float,
     if b + 1 < len(piece) and t[b] >= length - end_zone:
         back = np.flatnonzero(near[b + 1:])
         tail = piece[b + 1:b + 1 + back[0]] if len(back) else piece[b + 1:]
-        closed = bool(len(back) and t[b + 1 + back[0]] <= end_zone and length > loop_length)
-        out = np.concatenate([out, tail])
+        if _runs_on_from(spine, piece[a:b + 1], reach, cos_min):
+            closed = bool(len(back) and t[b + 1 + back[0]] <= end_zone
+                          and length > loop_length)
+            out = np.concatenate([out, tail])
     if a > 0 and t[a] <= end_zone and not closed:
         back = np.flatnonzero(near[:a])
         head = piece[back[-1] + 1:a] if len(back) else piece[:a]
-        closed = bool(len(back) and t[back[-1]] >= length - end_zone
-                      and length > loop_length)
-        out = np.concatenate([head, out])
+        if _runs_on_from(spine[::-1], piece[a:b + 1][::-1], reach, cos_min):
+            closed = bool(len(back) and t[back[-1]] >= length - end_zone
+                          and length > loop_length)
+            out = np.concatenate([head, out])
     return out, closed
 
 
 def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
-           loop_length: float) -> tuple[np.ndarray, bool]:
+           loop_length: float, cos_min: float) -> tuple[np.ndarray, bool]:
     order = sorted(range(len(pieces)), key=lambda k: (-len(pieces[k]), k))
     spine, closed = pieces[order[0]], False
     pending = order[1:]
@@ -104,7 +133,7 @@ def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
         rest = []
         for k in pending:
             got = None if closed else _attach(spine, pieces[k], reach, end_zone,
-                                              loop_length)
+                                              loop_length, cos_min)
             if got is None:
                 rest.append(k)
                 continue
@@ -149,7 +178,8 @@ def _bin_medians(bins: np.ndarray, values: np.ndarray, n: int
 
 def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: float,
                smooth: float, *, end_zone: float = Tuning.end_zone,
-               loop_length: float = Tuning.loop_length, rounds: int = 2
+               loop_length: float = Tuning.loop_length, corner: float = Tuning.cut_angle,
+               rounds: int = 2
                ) -> tuple[np.ndarray, bool]:
     """The line through the middle of ``pieces`` (see the module), evenly spaced by ``h``,
     and whether it is closed (then its first point is repeated last). ``end_zone`` and
@@ -161,7 +191,8 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
     >>> closed, bool(np.abs(line[:, 1]).max() < 1e-9), line[[0, -1], 0].round(3).tolist()
     (False, True, [0.0, 1.0])
     """
-    spine, closed = _spine(pieces, reach, h, end_zone * reach, loop_length * reach)
+    spine, closed = _spine(pieces, reach, h, end_zone * reach, loop_length * reach,
+                           float(np.cos(np.radians(corner))))
     ink = np.concatenate(pieces)
     for _ in range(rounds):
         if closed:
@@ -337,7 +368,8 @@ def fitted_centreline(pieces: list[np.ndarray], work: Work) -> tuple[np.ndarray,
     """:func:`centreline` of ``pieces`` at the work's width and tuning (passes 4 and 8)."""
     t = work.tuning
     return centreline(pieces, t.member_reach * work.d, work.h, t.bin * work.d,
-                      t.smooth * work.d, end_zone=t.end_zone, loop_length=t.loop_length)
+                      t.smooth * work.d, end_zone=t.end_zone, loop_length=t.loop_length,
+                      corner=t.cut_angle)
 
 
 def fit_group(members: list[int], work: Work) -> list[Line]:

@@ -1,15 +1,18 @@
 """Pass 9 of :mod:`core.lines`: junctions taken from the fitted lines. An open line's end
 that stops within ``tuning.snap`` d_eps of another line, meeting it at an angle (more than
-the merge angle), meets it exactly: an end short of the line is extended onto its nearest
-point (a T, or an L where the other line ends there too), and an end that crosses it and
-runs on by at most ``tuning.overshoot`` d_eps is cut at the crossing. Lines that cross
+the merge angle), meets it exactly: an end short of the line is carried straight on to
+it where that meets it within ``tuning.overshoot`` d_eps (a T, or an L where the other
+line ends there too), else bent gently onto its nearest point (over
+``tuning.meet_bend`` times the gap: a segment appended at an angle would be a kink no pen
+drew); an end that crosses it and runs on by at most ``tuning.overshoot`` d_eps is cut at
+the crossing. Lines that cross
 farther from their ends go straight through: nothing here moves them. Fitting Beziers
 (pass 10) moves a line a little, so after the fit each end that met a line is moved again
 onto that line's curve (:func:`met_ends`). Not at epsilon 0, which keeps every stroke as
 drawn.
 
-Invariant: only ends move, each by at most ``over``; a line never gains or loses more
-than that at an end.
+Invariant: only ends and the stretch bent onto a line move, each point by at most
+``over``; a line never gains or loses more than that at an end.
 """
 
 from __future__ import annotations
@@ -85,20 +88,49 @@ class Meeting:
     tangent: float = Tuning.meet_tangent
     #: a line no longer than this many ``over`` is left as it is
     trim_length: float = Tuning.trim_length
+    #: an end that does not meet the line carried straight on is bent onto its nearest
+    #: point over this many times its gap
+    bend: float = Tuning.meet_bend
+    #: cosine of the turn above which a straight join to the nearest point is bent instead
+    cos_turn: float = float(np.cos(np.radians(Tuning.meet_turn)))
 
     @classmethod
     def of(cls, tuning: Tuning, d: float, angle: float, spacing: float) -> Meeting:
         """Pass 9's meeting at bundle width ``d`` and merge angle ``angle`` (degrees)."""
         return cls(tuning.snap * d, tuning.overshoot * d, float(np.cos(np.radians(angle))),
-                   spacing, True, tuning.meet_tangent, tuning.trim_length)
+                   spacing, True, tuning.meet_tangent, tuning.trim_length,
+                   tuning.meet_bend, float(np.cos(np.radians(tuning.meet_turn))))
+
+
+def bend_to(points: np.ndarray, end: int, at: np.ndarray, length: float) -> np.ndarray:
+    """The polyline with its ``end`` moved to ``at`` by bending its last ``length`` (arc
+    length; at most half the line): each point there moves by the end's shift times a
+    weight falling smoothly from 1 at the end to 0 (a raised cosine), so the line turns
+    gently onto ``at`` instead of gaining a segment at an angle. Nothing moves farther
+    than the end does.
+
+    >>> line = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [4.0, 0.0]])
+    >>> bend_to(line, 1, np.array([4.0, 0.5]), 2.0)[:, 1].round(3).tolist()
+    [0.0, 0.0, 0.0, 0.25, 0.5]
+    """
+    pts = points if end == 1 else points[::-1]
+    s = arc_lengths(pts)
+    span = min(length, 0.5 * s[-1])
+    u = s[-1] - s  # distance from the end along the line
+    w = np.where(u < span, 0.5 * (1.0 + np.cos(np.pi * u / max(span, 1e-300))), 0.0)
+    out = pts + w[:, None] * (at - pts[-1])[None]
+    out[-1] = at
+    return out if end == 1 else out[::-1]
 
 
 def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
-                ) -> tuple[np.ndarray, int] | None:
-    """Where one end should meet one of the ``others`` (shapely lines): the crossing
-    nearest the end on its last ``over`` (where ``cut``; else an end that crosses a line
-    there is left as it is), else the nearest point within ``reach``, and which of
-    ``others``; None where there is none, or the line runs along the other."""
+                ) -> tuple[np.ndarray, int, bool] | None:
+    """Where one end should meet one of the ``others`` (shapely lines), which of them, and
+    whether the end is bent there (else cut or extended straight): the crossing nearest
+    the end on its last ``over`` (where ``cut``; else an end that crosses a line there is
+    left as it is); else, for a line whose nearest point lies within ``reach``, where the
+    end carried straight on meets it within ``over`` (extended), or that nearest point
+    (bent). None where there is none, or the line runs along the other."""
     reach, over, cos_max, cut = how.reach, how.over, how.cos_max, how.cut
     e = points[0] if end == 0 else points[-1]
     tip = tip_of(points, end, over)
@@ -109,6 +141,7 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
                                                                 other))
         if len(crossing) and not cut:
             return None  # it runs on past a line: an overshoot, left as drawn
+        bent = False
         if len(crossing):
             target = crossing[np.argmin(np.hypot(*(crossing - e).T))]
         else:
@@ -117,6 +150,13 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
         gap = float(np.hypot(*(target - e)))
         if gap > (over if len(crossing) else reach) or gap >= best_gap:
             continue
+        if not len(crossing):  # carried straight on, where it meets the line within over
+            ahead = shapely.get_coordinates(shapely.intersection(
+                shapely.LineString([e, e + direction * over]), other))
+            if len(ahead):
+                target = ahead[np.argmin(np.hypot(*(ahead - e).T))]
+            else:  # a straight join turning more than a corner would be a hook: bent
+                bent = gap > 0 and float((target - e) @ direction) < how.cos_turn * gap
         foot = float(shapely.line_locate_point(other, shapely.Point(target)))
         ahead = shapely.get_coordinates(shapely.line_interpolate_point(
             other, [max(foot - how.tangent * reach, 0.0),
@@ -124,7 +164,7 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
         along = unit_rows((ahead[1] - ahead[0])[None])[0]
         if abs(float(along @ direction)) > cos_max:  # running along it: no junction
             continue
-        best, best_gap = (target, which), gap
+        best, best_gap = (target, which, bent), gap
     return best
 
 
@@ -166,8 +206,11 @@ def meet_at_junctions(lines: list[np.ndarray], closed: list[bool], how: Meeting
                 continue
             found = _end_target(moved, end, geoms[near], how)
             if found is not None:
-                moved = cut_to(moved, end, found[0], how.over)
-                met[end] = near[found[1]]
+                target, which, bent = found
+                e_gap = float(np.hypot(*(target - e)))
+                moved = (bend_to(moved, end, target, how.bend * e_gap) if bent and how.bend > 0
+                         else cut_to(moved, end, target, how.over))
+                met[end] = near[which]
         out.append(resample_polyline(moved, how.spacing) if moved is not pts else pts)
         meets.append((met[0], met[1]))
     return out, meets
