@@ -197,9 +197,9 @@ class Tuning:
     #: a line no longer than this many overshoots is not trimmed. decisions: "Where each
     #: tuned number comes from"
     trim_length: float = 2.0
-    #: an end meeting a line that it would not meet carried straight on is bent onto the
-    #: line's nearest point over this many times its gap (pass 9). decisions: "an end meets
-    #: a line carried straight on, or bent gently"
+    #: an end that would turn by more than ``meet_turn`` to join a line's nearest point is
+    #: bent onto it over this many times its gap (pass 9). decisions: "an end meets a line
+    #: carried straight on, or bent gently"
     meet_bend: float = 4.0
     #: an end whose straight join to a line's nearest point would turn by more than this
     #: (degrees) is bent onto it instead; a smaller turn is a corner the join keeps (pass

@@ -84,7 +84,7 @@ def _runs_on_from(line: np.ndarray, run: np.ndarray, reach: float, cos_min: floa
 
 
 def _attach(spine: np.ndarray, piece: np.ndarray, reach: float, end_zone: float,
-            loop_length: float, cos_min: float = -1.0) -> tuple[np.ndarray, bool] | None:
+            loop_length: float, cos_min: float) -> tuple[np.ndarray, bool] | None:
     """The spine with ``piece`` attached (see the module), and whether it closed; None
     where the piece does not run along it. The piece extends an end where it parts from
     the spine within ``end_zone`` of it heading the spine's way (:func:`_runs_on_from`

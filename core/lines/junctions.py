@@ -2,11 +2,11 @@
 that stops within ``tuning.snap`` d_eps of another line, meeting it at an angle (more than
 the merge angle), meets it exactly: an end short of the line is carried straight on to
 it where that meets it within ``tuning.overshoot`` d_eps (a T, or an L where the other
-line ends there too), else bent gently onto its nearest point (over
-``tuning.meet_bend`` times the gap: a segment appended at an angle would be a kink no pen
-drew); an end that crosses it and runs on by at most ``tuning.overshoot`` d_eps is cut at
-the crossing. Lines that cross
-farther from their ends go straight through: nothing here moves them. Fitting Beziers
+line ends there too), else joined straight to its nearest point where that turns by at
+most ``tuning.meet_turn`` (a corner), else bent gently onto it (over ``tuning.meet_bend``
+times the gap: a segment turning back would be a hook no pen drew); an end that crosses
+it and runs on by at most ``tuning.overshoot`` d_eps is cut at the crossing. Lines that
+cross farther from their ends go straight through: nothing here moves them. Fitting Beziers
 (pass 10) moves a line a little, so after the fit each end that met a line is moved again
 onto that line's curve (:func:`met_ends`). Not at epsilon 0, which keeps every stroke as
 drawn.
@@ -88,8 +88,8 @@ class Meeting:
     tangent: float = Tuning.meet_tangent
     #: a line no longer than this many ``over`` is left as it is
     trim_length: float = Tuning.trim_length
-    #: an end that does not meet the line carried straight on is bent onto its nearest
-    #: point over this many times its gap
+    #: an end whose straight join would turn by more than the turn of ``cos_turn`` is
+    #: bent onto the line's nearest point over this many times its gap (0: joined straight)
     bend: float = Tuning.meet_bend
     #: cosine of the turn above which a straight join to the nearest point is bent instead
     cos_turn: float = float(np.cos(np.radians(Tuning.meet_turn)))
@@ -130,7 +130,8 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
     the end on its last ``over`` (where ``cut``; else an end that crosses a line there is
     left as it is); else, for a line whose nearest point lies within ``reach``, where the
     end carried straight on meets it within ``over`` (extended), or that nearest point
-    (bent). None where there is none, or the line runs along the other."""
+    (joined straight, or bent where that would turn back). None where there is none, or
+    the line runs along the other."""
     reach, over, cos_max, cut = how.reach, how.over, how.cos_max, how.cut
     e = points[0] if end == 0 else points[-1]
     tip = tip_of(points, end, over)
@@ -151,10 +152,10 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
         if gap > (over if len(crossing) else reach) or gap >= best_gap:
             continue
         if not len(crossing):  # carried straight on, where it meets the line within over
-            ahead = shapely.get_coordinates(shapely.intersection(
+            hit = shapely.get_coordinates(shapely.intersection(
                 shapely.LineString([e, e + direction * over]), other))
-            if len(ahead):
-                target = ahead[np.argmin(np.hypot(*(ahead - e).T))]
+            if len(hit):
+                target = hit[np.argmin(np.hypot(*(hit - e).T))]
             else:  # a straight join turning more than a corner would be a hook: bent
                 bent = gap > 0 and float((target - e) @ direction) < how.cos_turn * gap
         foot = float(shapely.line_locate_point(other, shapely.Point(target)))
