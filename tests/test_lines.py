@@ -14,6 +14,7 @@ from metrics import coverage, whole_lines
 from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
 from core.arrays.geometry import project_on
 from core.arrays.polylines import resample_polyline
+from core.lines.pieces import cut_at_corners
 from core.lines import PASSES
 from core.params import Tuning
 from core.sketch import SketchError
@@ -429,3 +430,19 @@ def test_a_pass_crossing_a_lines_end_does_not_carry_the_line_round_a_corner():
     line, closed = centreline([*edge, cross], 0.3, 0.25, 0.25, 0.1)
     assert not closed
     assert np.abs(line[:, 1]).max() < 0.35
+
+
+def test_a_small_round_shape_is_not_cut_at_corners_but_a_rounded_corner_is():
+    """A curl of radius 1.2 d_eps turns more than the corner angle within the corner reach
+    (2 d_eps) each side, but it goes on turning the same way beyond: round, one piece. A
+    square's corner rounded with a radius of 0.7 d_eps, between straight arms, is a
+    corner."""
+    d = 1.0
+    t = np.linspace(0, 1.8 * np.pi, 120)
+    curl = 1.2 * d * np.stack([np.cos(t), np.sin(t)], axis=1)
+    assert len(cut_at_corners(curl, 0.25 * d, Tuning.cut_angle, Tuning.cut_reach * d)) == 1
+    a = np.linspace(np.pi, 1.5 * np.pi, 20)  # round the corner at the origin, radius 0.7 d
+    bend = 0.7 * d * (1 + np.stack([np.cos(a), np.sin(a)], axis=1))
+    arms = np.concatenate([np.stack([np.zeros(20), np.linspace(6 * d, 0.7 * d, 20)], 1),
+                           bend, np.stack([np.linspace(0.7 * d, 6 * d, 20), np.zeros(20)], 1)])
+    assert len(cut_at_corners(arms, 0.25 * d, Tuning.cut_angle, Tuning.cut_reach * d)) == 2

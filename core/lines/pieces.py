@@ -1,7 +1,8 @@
 """Pass 1 of :mod:`core.lines`: the pen strokes. Each input stroke is resampled every
 ``h`` (a quarter of d_eps) and cut where it turns more than ``tuning.cut_angle`` within
 ``tuning.cut_reach`` d_eps each side: a corner drawn in one motion is two lines, which may
-belong to two different groups; and where it comes back along its own earlier ink (a
+belong to two different groups (but a small round shape, turning on the same way beyond,
+is no corner: ``tuning.round_share``); and where it comes back along its own earlier ink (a
 ring drawn round several times, a line drawn back over itself), each turn a piece.
 Invariant: the pieces of a stroke, in order, are the
 whole stroke (each cut point ends one piece and starts the next); at epsilon 0 (nothing
@@ -20,19 +21,54 @@ from .work import Work
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
 
 
-def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: float
-                   ) -> list[np.ndarray]:
+def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: float,
+                   round_share: float = Tuning.round_share) -> list[np.ndarray]:
     """A polyline resampled every ``spacing`` and cut where it turns more than ``angle``
-    degrees within ``reach`` each side.
+    degrees within ``reach`` each side, unless it goes on turning that way beyond, on both
+    sides, by at least ``round_share`` of that turn (:func:`_turning_on`: round, not a
+    corner).
 
     >>> corner = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
     >>> [p[[0, -1]].tolist() for p in cut_at_corners(corner, 0.25, 70, 0.3)]
     [[[0.0, 0.0], [1.0, 0.0]], [[1.0, 0.0], [1.0, 1.0]]]
     """
     pts = resample_polyline(points, spacing)
-    cuts = corner_indices(pts, angle, reach)
+    cuts = [k for k in corner_indices(pts, angle, reach)
+            if not _turning_on(pts, k, reach, round_share)]
     bounds = [0, *cuts, len(pts) - 1]
     return [pts[a:b + 1] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+
+
+def _turning_on(points: np.ndarray, k: int, reach: float, share: float) -> bool:
+    """Whether the polyline, turning at ``k`` within ``reach`` each side, goes on turning
+    the same way over the next ``reach`` beyond (on each side that has ink there), at least
+    ``share`` as fast per length: a small round shape (an eye, a dot, a curl), not a corner,
+    whose arms run on straight, or bend much less.
+
+    >>> t = np.linspace(0, 2 * np.pi, 64)
+    >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)  # round: turning on at every point
+    >>> _turning_on(ring, 32, 0.8, 0.5)
+    True
+    >>> corner = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 0.5], [1.0, 1.0]])
+    >>> _turning_on(corner, 2, 0.5, 0.5)
+    False
+    """
+    s = arc_lengths(points)
+    at = np.searchsorted(s, s[k] + np.array([-2, -1, 1, 2]) * reach).clip(0, len(points) - 1)
+    b2, b1, a1, a2 = at
+
+    def rate(x: int, y: int, z: int) -> float | None:
+        """How fast the chord x-y turns into the chord y-z, per length between their
+        middles (None where either has no length: the stroke ends within reach)."""
+        u, v = points[y] - points[x], points[z] - points[y]
+        if not (s[y] > s[x] and s[z] > s[y]):
+            return None
+        turn = float(np.arctan2(u[0] * v[1] - u[1] * v[0], u @ v))
+        return turn / ((s[z] - s[x]) / 2)
+
+    here = rate(b1, k, a1)
+    beyond = [r for r in (rate(b2, b1, k), rate(k, a1, a2)) if r is not None]
+    return bool(here and beyond and all(r * here >= share * here * here for r in beyond))
 
 
 def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float,
@@ -108,7 +144,8 @@ def run(work: Work) -> Work:
             cut = [resample_polyline(stroke, work.h)]
         else:
             cut = [turn for leg in cut_at_corners(stroke, work.h, work.tuning.cut_angle,
-                                                  work.tuning.cut_reach * work.d)
+                                                  work.tuning.cut_reach * work.d,
+                                                  work.tuning.round_share)
                    for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
                                                     work.tuning.follow_cos,
                                                     work.tuning.back)]
