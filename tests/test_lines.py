@@ -14,8 +14,8 @@ from metrics import coverage, whole_lines
 from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
 from core.arrays.geometry import project_on
 from core.arrays.polylines import resample_polyline
-from core.lines.pieces import cut_at_corners
 from core.lines import PASSES
+from core.lines.pieces import cut_at_corners
 from core.params import Tuning
 from core.sketch import SketchError
 
