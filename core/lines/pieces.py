@@ -24,36 +24,37 @@ __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
 def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: float,
                    round_share: float = Tuning.round_share) -> list[np.ndarray]:
     """A polyline resampled every ``spacing`` and cut where it turns more than ``angle``
-    degrees within ``reach`` each side, unless it goes on turning that way beyond, on both
-    sides, by at least ``round_share`` of that turn (:func:`_turning_on`: round, not a
-    corner).
+    degrees within ``reach`` each side, unless it goes on turning that way over the next
+    ``reach`` beyond, on each side with ink there, at least ``round_share`` as fast per
+    length (:func:`_turning_on`: round, not a corner).
 
     >>> corner = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
     >>> [p[[0, -1]].tolist() for p in cut_at_corners(corner, 0.25, 70, 0.3)]
     [[[0.0, 0.0], [1.0, 0.0]], [[1.0, 0.0], [1.0, 1.0]]]
     """
     pts = resample_polyline(points, spacing)
-    cuts = [k for k in corner_indices(pts, angle, reach)
-            if not _turning_on(pts, k, reach, round_share)]
+    corners = corner_indices(pts, angle, reach)
+    s = arc_lengths(pts) if corners else None
+    cuts = [k for k in corners if not _turning_on(pts, s, k, reach, round_share)]
     bounds = [0, *cuts, len(pts) - 1]
     return [pts[a:b + 1] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
 
 
-def _turning_on(points: np.ndarray, k: int, reach: float, share: float) -> bool:
-    """Whether the polyline, turning at ``k`` within ``reach`` each side, goes on turning
-    the same way over the next ``reach`` beyond (on each side that has ink there), at least
-    ``share`` as fast per length: a small round shape (an eye, a dot, a curl), not a corner,
-    whose arms run on straight, or bend much less.
+def _turning_on(points: np.ndarray, s: np.ndarray, k: int, reach: float, share: float
+                ) -> bool:
+    """Whether the polyline (arc lengths ``s``), turning at ``k`` within ``reach`` each
+    side, goes on turning the same way over the next ``reach`` beyond (on each side that
+    has ink there), at least ``share`` as fast per length: a small round shape (an eye, a
+    dot, a curl), not a corner, whose arms run on straight, or bend much less.
 
     >>> t = np.linspace(0, 2 * np.pi, 64)
     >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)  # round: turning on at every point
-    >>> _turning_on(ring, 32, 0.8, 0.5)
+    >>> _turning_on(ring, arc_lengths(ring), 32, 0.8, 0.5)
     True
     >>> corner = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 0.5], [1.0, 1.0]])
-    >>> _turning_on(corner, 2, 0.5, 0.5)
+    >>> _turning_on(corner, arc_lengths(corner), 2, 0.5, 0.5)
     False
     """
-    s = arc_lengths(points)
     at = np.searchsorted(s, s[k] + np.array([-2, -1, 1, 2]) * reach).clip(0, len(points) - 1)
     b2, b1, a1, a2 = at
 
@@ -68,7 +69,7 @@ def _turning_on(points: np.ndarray, k: int, reach: float, share: float) -> bool:
 
     here = rate(b1, k, a1)
     beyond = [r for r in (rate(b2, b1, k), rate(k, a1, a2)) if r is not None]
-    return bool(here and beyond and all(r * here >= share * here * here for r in beyond))
+    return bool(here and beyond and all(r / here >= share for r in beyond))
 
 
 def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float,
