@@ -141,8 +141,9 @@ class Tuning:
     #: the centreline's bins along its spine (d_eps). decisions: "ink no line stands for
     #: becomes a line"
     bin: float = 0.25
-    #: ... and the Gaussian smoothing its offsets (sigma, d_eps). decisions: "one output
-    #: stage, lines from the pen"
+    #: ... and the Gaussian smoothing the line moved to their medians (sigma, d_eps; at
+    #: most a line's length / 4 pi). decisions: "one output stage, lines from the pen";
+    #: "the centreline smoothed as a line"
     smooth: float = 0.5
     #: a band free of ink parts two lines where wider than fill_gap, or than this times the
     #: wider ink beside it (passes 4-6). decisions: "groups split where a band free of ink

@@ -4,7 +4,8 @@ copies of a sketch against the sketch alone.
 
     python scripts/quality.py OUT.json [--root TREE] [--only PATTERN] [--jobs N] [--svg DIR]
                               [--data DIR] [--lines STAGE] [--skip PASS,...]
-                              [--tuning NAME=VALUE,...] [--anchor]
+                              [--tuning NAME=VALUE,...] [--param NAME=VALUE,...]
+                              [--anchor]
     python scripts/quality.py --compare BEFORE.json AFTER.json [--pictures DIR --before-root
                               TREE]
 
@@ -19,7 +20,9 @@ both hold, and no width of bundle settles it. ``--root``
 simplifies with another checkout's ``core`` (a ``git worktree`` of the commit before), so
 that before and after are scored by the same scorer. ``--svg`` writes each output there.
 ``--skip`` leaves pen passes out and ``--tuning`` changes the pen's tuned constants
-(``core.params.Tuning``), for ablations scored by the same scorer. ``--data`` scores
+(``core.params.Tuning``), for ablations scored by the same scorer; ``--param`` changes a
+numeric option of ``core.SimplifyParams`` (smoothing, fit_error, ...) the same way.
+``--data`` scores
 another folder of .scap sketches laid out as ``../shared/data`` (a source folder each, a
 lift3d reference ``full_fit.scap`` beside its sketch), for example sketches held
 out from tuning; the folder is recorded in OUT.json for ``--pictures``. ``--anchor``
@@ -302,6 +305,8 @@ def main(argv: list[str] | None = None) -> int:
                     "(an ablation)")
     ap.add_argument("--tuning", default="", help="pen tuning to change, as name=value,... "
                     "(core.params.Tuning)")
+    ap.add_argument("--param", default="", help="options to change, as name=value,... "
+                    "(core.SimplifyParams' numeric fields: smoothing, fit_error, ...)")
     ap.add_argument("--anchor", action="store_true", help="score one line fitted per "
                     "labelled cluster instead of a simplification: the ceiling a grouping "
                     "as good as the labels gives with a plain median fit")
@@ -332,6 +337,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.tuning:
             options["tuning"] = {k: float(v) for k, v in
                                  (item.split("=") for item in args.tuning.split(","))}
+        if args.param:
+            options |= {k: float(v) for k, v in
+                        (item.split("=") for item in args.param.split(","))}
         if args.anchor:
             options = {"anchor": True}
         rows = dict(pool.map(score_one, [(root, str(data), f, args.svg, options)

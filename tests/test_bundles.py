@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import shapely
 
-from core import Sketch, Stroke, simplify
+from core import SimplifyParams, Sketch, Stroke, simplify
 
 CANVAS = 500.0
 D = float(np.hypot(CANVAS, CANVAS))  # the canvas's diagonal; drawings fill most of it
@@ -72,6 +72,22 @@ def test_a_straight_edge_drawn_five_times_wandering_comes_out_straight():
     out = lines_of(strokes)
     assert len(out) == 1
     assert np.abs(out[0].points[:, 1] - 250).max() < 0.0015 * D
+
+
+def test_a_bundles_line_does_not_keep_the_wiggle_of_its_longest_pass():
+    """Four straight passes and a longer one wiggling 2 px every 20 px (a quarter of a
+    bundle width, every two): the fitted line, with the output's own smoothing off, is
+    straight. The longest pass is the spine; the line is the spine moved to the middle of
+    the ink and then smoothed, so the spine's wiggle goes with it (smoothing only the
+    offsets from it would give the wiggle back)."""
+    x = np.linspace(40, 460, 300)
+    wiggly = np.stack([np.r_[30, x], 250 + np.r_[0, 2.0 * np.sin(2 * np.pi * x / 20)]], axis=1)
+    straight = [np.stack([x, 250 + np.full_like(x, d)], axis=1) for d in (-0.6, -0.2, 0.2, 0.6)]
+    out = simplify(Sketch([Stroke(p) for p in [wiggly] + straight], CANVAS, CANVAS),
+                   SimplifyParams(smoothing=0)).strokes
+    assert len(out) == 1
+    middle = out[0].points[(out[0].points[:, 0] > 100) & (out[0].points[:, 0] < 400)]
+    assert np.ptp(middle[:, 1]) < 0.5  # the wiggle is 4 px from crest to trough
 
 
 def s_curve(offset: float, seed: int) -> np.ndarray:

@@ -17,8 +17,8 @@ The passes, in order (each a module with one job; :data:`PASSES` names them):
 3. ``group``: pieces that follow one alive curve along enough of their length (and
    overlap there) draw one line; groups are the connected components.
 4. ``fit``: one centreline per group, fitted to all its pieces' ink at once (a spine
-   grown from its longest piece, then the median offset of the ink in bins along it,
-   smoothed); a piece that does not lie along the fitted line is split off.
+   grown from its longest piece, moved to the median offset of the ink in bins along
+   it, then smoothed as a line); a piece that does not lie along the fitted line is split off.
 5. ``join``: two lines of which the shorter lies along the longer are one line drawn
    twice: fitted again as one group.
 6. ``absorb``: a short line lying wholly near a longer one (a hook, a crumb) is left out.

@@ -7,10 +7,15 @@ where it runs within ``member_reach`` d_eps of it, its parts beyond the spine's 
 extending it where the piece heads the spine's way there (within ``tuning.cut_angle``; one
 that crosses the end at a corner is another line; a piece that leaves one end and comes
 back to the other closes it: a circle
-drawn as loose arcs). Then, twice, the median of the ink's offsets from the spine is taken
-in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the line off the
-others) and smoothed over ``tuning.smooth`` d_eps: the line runs through the middle of
-the passes, and ends where the ink ends.
+drawn as loose arcs). Then, twice, the spine is moved to the median of the ink's offsets
+from it, taken in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the
+line off the others), and the line so moved is smoothed over ``tuning.smooth`` d_eps
+(:func:`core.curves.bezier.smooth_between_corners`): the line runs through the middle of
+the passes, and ends where the ink ends. The line is smoothed, not the offsets alone: the
+spine is one pass, and a line made of it plus smoothed offsets would keep that pass's own
+wander at every scale the smoothing takes out of the offsets. A group of one piece is
+that piece, resampled: there is no other ink to move it to (pass 10 smooths it as it
+smooths every line).
 
 The checks. First, a group whose passes leave a band free of ink all along them that
 :func:`clear_band` says parts two lines (wider than the drawing's usual spacing of passes,
@@ -41,7 +46,8 @@ import shapely
 
 from ..arrays.components import component_labels
 from ..arrays.geometry import Segments, project_on, tangents
-from ..arrays.polylines import arc_lengths, gaussian_kernel, resample_polyline, smoothed_ring
+from ..arrays.polylines import arc_lengths, resample_polyline
+from ..curves.bezier import smooth_between_corners
 from ..params import Tuning
 from .work import Line, Work
 
@@ -148,14 +154,6 @@ def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
     return spine, closed
 
 
-def _smooth_open(values: np.ndarray, sigma: float) -> np.ndarray:
-    half = int(np.ceil(3 * sigma))
-    if sigma <= 0 or half < 1:
-        return values
-    pad = np.pad(values, half, mode="edge")
-    return np.convolve(pad, gaussian_kernel(sigma, half), mode="valid")
-
-
 def _bin_medians(bins: np.ndarray, values: np.ndarray, n: int
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Which of ``n`` bins hold values, and the median of each (0 where none).
@@ -194,7 +192,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
     spine, closed = _spine(pieces, reach, h, end_zone * reach, loop_length * reach,
                            float(np.cos(np.radians(corner))))
     ink = np.concatenate(pieces)
-    for _ in range(rounds):
+    for _ in range(rounds if len(pieces) > 1 else 0):  # one pass: the line is the pen's
         if closed:
             spine = np.concatenate([spine, spine[:1]]) if not np.array_equal(
                 spine[0], spine[-1]) else spine
@@ -213,13 +211,10 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
             break
         k = np.arange(n)
         mean = np.interp(k, k[has], middle[has], period=n - 1 if closed else None)
-        sigma = smooth / (length / (n - 1))
+        moved = line + normal * mean[:, None]  # the line through the middle of the ink
         if closed:
-            mean[-1] = mean[0]
-            mean = smoothed_ring(mean, sigma) if n - 1 > int(np.ceil(3 * sigma)) else mean
-        else:
-            mean = _smooth_open(mean, sigma)
-        spine = line + normal * mean[:, None]
+            moved[-1] = moved[0]
+        spine = smooth_between_corners(moved, smooth / (length / (n - 1)), [], closed)
         if closed:
             spine[-1] = spine[0]
             spine = spine[:-1]

@@ -1,0 +1,132 @@
+"""Rough passes drawn over known clean curves, scored against those curves: where the truth
+is known exactly, a loss is the simplification's, not the reference's.
+
+    python scripts/synthetic_passes.py OUT.json [--root TREE] [--jobs N] [--data DIR]
+                                       [--param NAME=VALUE,...]
+
+The clean curves are the lift3d designers' ``full_fit.scap`` curves of ``../shared/data``
+(read in place, never copied). Each curve is drawn again as 2 to 4 passes: each pass
+offset from it by a constant (sigma 0.4% of the diagonal D), a slow wander (0.3% D,
+wavelength 10-30% D) and a tremor (0.05% D), its ends trimmed by up to 2% D or run on by
+up to 2% D along the curve's tangent; the seed is the file's path, so a run is repeatable.
+The measures (``scripts/metrics.py``): whole lines of the output and of the passes
+themselves, wobble and doubled on the reference; medians, and the count of sketches whose
+output keeps fewer curves whole than its own rough passes.
+
+Unlike ``cluster_reference`` (the stand-in reference of the labelled sketches, itself a
+median fit along the longest stroke, which keeps that stroke's wander), the reference here
+is the curve the passes were drawn from.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import sys
+import zlib
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE.parent.parent / "shared" / "data"
+#: sigma of a pass's constant offset, amplitude of its wander, sigma of its tremor (D)
+OFFSET, WANDER, TREMOR = 0.004, 0.003, 0.0005
+#: the wander's wavelength range, and how far an end is trimmed or run on, at most (D)
+WAVELENGTH, END = (0.1, 0.3), 0.02
+#: a pass is sampled this often (D)
+STEP = 0.002
+
+
+def rough_passes(curves: list[np.ndarray], diagonal: float, seed: int) -> list[np.ndarray]:
+    """Each of ``curves`` drawn as 2 to 4 rough passes (see the module).
+
+    >>> line = np.array([[0.0, 0.0], [100.0, 0.0]])
+    >>> passes = rough_passes([line], 500.0, 1)
+    >>> 2 <= len(passes) <= 4, all(np.abs(p[:, 1]).max() < 0.03 * 500 for p in passes)
+    (True, True)
+    """
+    rng = np.random.default_rng(seed)
+    out = []
+    for curve in curves:
+        line = shapely.LineString(curve)
+        if line.length <= 0:
+            continue
+        s = np.linspace(0, line.length, max(4, int(line.length / (STEP * diagonal))))
+        points = shapely.get_coordinates(shapely.line_interpolate_point(line, s))
+        tangent = np.gradient(points, axis=0)
+        tangent /= np.maximum(np.hypot(*tangent.T), 1e-12)[:, None]
+        normal = np.stack([-tangent[:, 1], tangent[:, 0]], axis=1)
+        for _ in range(int(rng.integers(2, 5))):
+            head = rng.uniform(-END, END / 2) * diagonal
+            tail = rng.uniform(-END / 2, END) * diagonal
+            wavelength = rng.uniform(*WAVELENGTH) * diagonal
+            offset = (rng.normal(0, OFFSET * diagonal)
+                      + WANDER * diagonal * np.sin(2 * np.pi * s / wavelength
+                                                   + rng.uniform(0, 2 * np.pi))
+                      + rng.normal(0, TREMOR * diagonal, len(s)))
+            keep = (s >= max(0.0, -head)) & (s <= line.length + min(0.0, tail))
+            if keep.sum() < 2:
+                continue
+            drawn = (points + normal * offset[:, None])[keep]
+            first, last = tangent[keep][0], tangent[keep][-1]
+            if head > 0:
+                drawn = np.vstack([drawn[0] - first * head, drawn])
+            if tail > 0:
+                drawn = np.vstack([drawn, drawn[-1] + last * tail])
+            out.append(drawn)
+    return out
+
+
+def score_one(args: tuple[str, str, dict]) -> tuple[str, dict]:
+    root, path, options = args
+    sys.path[:0] = [root, str(HERE)]
+    import metrics
+
+    from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
+
+    clean = read_sketch(path)
+    reference = [s.points for s in clean.strokes if len(s.points) >= 2]
+    diagonal = float(np.hypot(clean.width, clean.height))
+    ink = rough_passes(reference, diagonal, zlib.crc32(Path(path).as_posix().encode()))
+    result = simplify(Sketch([Stroke(p) for p in ink], clean.width, clean.height),
+                      SimplifyParams(**options))
+    out = [s.points for s in result.strokes]
+    return path, {"whole_lines": metrics.whole_lines(out, reference, diagonal),
+                  "whole_lines_input": metrics.whole_lines(ink, reference, diagonal),
+                  "wobble": metrics.wobble(out, reference, diagonal),
+                  "doubled_ref": metrics.doubled_on_reference(out, reference, diagonal),
+                  "strokes_in": len(ink), "strokes_out": len(out), "curves": len(reference)}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out", nargs="?")
+    ap.add_argument("--root", default=str(HERE.parent), help="checkout to import core from")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--data", type=Path, default=DATA, help="laid out as ../shared/data")
+    ap.add_argument("--param", default="", help="options to change, as name=value,...")
+    args = ap.parse_args(argv)
+    files = sorted(str(p) for p in args.data.resolve().rglob("full_fit.scap"))
+    if not files:
+        print(f"no lift3d references under {args.data}: nothing to score")
+        return 0
+    options = {k: float(v) for k, v in (item.split("=") for item in args.param.split(",")
+                                        if item)}
+    root = str(Path(args.root).resolve())
+    with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        rows = dict(pool.map(score_one, [(root, f, options) for f in files]))
+    for name in ("whole_lines", "whole_lines_input", "wobble", "doubled_ref"):
+        print(f"{name} {np.median([r[name] for r in rows.values()]):.3f}")
+    below = sum(r["whole_lines"] < r["whole_lines_input"] for r in rows.values())
+    print(f"whole lines below the rough passes' own: {below} of {len(rows)}")
+    if args.out:
+        Path(args.out).write_text(json.dumps(rows, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
