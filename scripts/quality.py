@@ -79,10 +79,10 @@ FAR_INK = ("strokeaggregator_labels/for_second_round/house_label_101.scap",
            "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/trash_bin/view1/"
            "lines_separation/full_cluster.scap")
 
-__all__ = ["main", "scored", "short_name", "summary", "worst"]
+__all__ = ["assignments", "main", "scored", "short_name", "summary", "use_checkout", "worst"]
 
 
-def _setup(root: str) -> None:
+def use_checkout(root: str) -> None:
     """Import ``core`` from ``root`` before the scripts, which put this checkout first."""
     sys.path[:0] = [root, str(HERE)]
     import core  # noqa: F401 - the scripts' own path entry would win once they are imported
@@ -90,9 +90,20 @@ def _setup(root: str) -> None:
     assert Path(core.__file__).resolve().parent.parent == Path(root).resolve(), core.__file__
 
 
+def assignments(text: str) -> dict[str, float]:
+    """``name=value,...`` (``--tuning``, ``--param``) as a dict; empty text, none.
+
+    >>> assignments("smoothing=1,fit_error=0.25")
+    {'smoothing': 1.0, 'fit_error': 0.25}
+    >>> assignments("")
+    {}
+    """
+    return {k: float(v) for k, v in (item.split("=") for item in text.split(",") if item)}
+
+
 def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:
     root, data, path, svg_dir, options = args
-    _setup(root)
+    use_checkout(root)
     from bench_simplify import measure
 
     from core import SimplifyParams, read_sketch, simplify, write_sketch
@@ -123,7 +134,7 @@ def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:
 def far_ink(args: tuple[str, str]) -> tuple[str, float]:
     """The share of a drawing's output moved by one stroke ten diagonals away."""
     root, path = args
-    _setup(root)
+    use_checkout(root)
     from bench_simplify import diagonal
     from metrics import changed
 
@@ -149,7 +160,7 @@ def page(args: tuple[str, str, dict]) -> tuple[str, dict]:
     the lines it gets alone): the share moved more than 0.5% of the diagonal (median and
     worst over the copies) and the copy's ink within 1% of it (worst)."""
     root, path, options = args
-    _setup(root)
+    use_checkout(root)
     from bench_simplify import diagonal
     from metrics import changed, coverage
 
@@ -182,7 +193,7 @@ def output_of(args: tuple[str, str, dict]) -> list[np.ndarray]:
     """The output polylines of one sketch, simplified by the checkout at ``root`` with the
     run's options (its ``SimplifyParams`` fields)."""
     root, path, options = args
-    _setup(root)
+    use_checkout(root)
     from core import SimplifyParams, read_sketch, simplify
 
     return [s.points for s in simplify(read_sketch(path), SimplifyParams(**options)).strokes]
@@ -335,11 +346,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.skip:
             options["skip"] = tuple(args.skip.split(","))
         if args.tuning:
-            options["tuning"] = {k: float(v) for k, v in
-                                 (item.split("=") for item in args.tuning.split(","))}
-        if args.param:
-            options |= {k: float(v) for k, v in
-                        (item.split("=") for item in args.param.split(","))}
+            options["tuning"] = assignments(args.tuning)
+        options |= assignments(args.param)
         if args.anchor:
             options = {"anchor": True}
         rows = dict(pool.map(score_one, [(root, str(data), f, args.svg, options)

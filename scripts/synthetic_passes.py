@@ -23,13 +23,13 @@ from __future__ import annotations
 import argparse
 import json
 import multiprocessing
-import sys
 import zlib
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
 import shapely
+from quality import assignments, use_checkout
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE.parent.parent / "shared" / "data"
@@ -83,7 +83,7 @@ def rough_passes(curves: list[np.ndarray], diagonal: float, seed: int) -> list[n
 
 def score_one(args: tuple[str, str, dict]) -> tuple[str, dict]:
     root, path, options = args
-    sys.path[:0] = [root, str(HERE)]
+    use_checkout(root)
     import metrics
 
     from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
@@ -114,8 +114,7 @@ def main(argv: list[str] | None = None) -> int:
     if not files:
         print(f"no lift3d references under {args.data}: nothing to score")
         return 0
-    options = {k: float(v) for k, v in (item.split("=") for item in args.param.split(",")
-                                        if item)}
+    options = assignments(args.param)
     root = str(Path(args.root).resolve())
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
         rows = dict(pool.map(score_one, [(root, f, options) for f in files]))

@@ -215,8 +215,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
         if closed:
             moved[-1] = moved[0]
         spine = smooth_between_corners(moved, smooth / (length / (n - 1)), [], closed)
-        if closed:
-            spine[-1] = spine[0]
+        if closed:  # a ring comes back with its first point repeated last
             spine = spine[:-1]
     if closed:
         spine = np.concatenate([spine, spine[:1]])
