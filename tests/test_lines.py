@@ -224,6 +224,35 @@ def test_a_replay_of_the_pen_stage_equals_a_fresh_run(sample):
             np.testing.assert_array_equal(x.bezier, y.bezier)
 
 
+@pytest.mark.parametrize("sample", ["cup", "fish"])
+def test_following_a_replay_from_a_state_followed_before_finds_what_following_afresh_finds(
+        sample):
+    """Pass 2 of a replay follows again only the samples whose curve died or that lie
+    near a curve born since the nearest state followed before: each sample's curve and
+    place along it are those a fresh follow finds, down and up the slider."""
+    from core.curves.memo import StrokeMemo
+    from core.lines import follow, pieces
+    from core.lines.work import Work
+
+    full = simplify(read_sketch(SAMPLES / f"{sample}.scap"), SimplifyParams(epsilon=0.05))
+    memo = StrokeMemo()
+    kept_states, seen = [], []
+    # patch merges come at the smallest costs: curves die there with none born
+    steps = (0.05, 0.03, 0.01, 0.0004, 0.04, 0.0001, 0.002, 0.0007, 0.02)
+    for eps in steps:
+        result = full.at(eps)
+        start = pieces.run(Work.start(result.state, result.params, full._prepared.unit))
+        kept = follow.run(start.with_(memo=memo))
+        afresh = follow.run(start)
+        np.testing.assert_array_equal(kept.sample_curve, afresh.sample_curve)
+        np.testing.assert_array_equal(kept.sample_at, afresh.sample_at)
+        kept_states.append(len(memo.follow.get(True).states))
+        seen.append(len({frozenset(full.at(e).state.alive_curves())
+                         for e in steps[:len(seen) + 1]}))
+    assert kept_states == [min(n, follow.KEPT_STATES) for n in seen]  # each state once
+    assert seen[-1] > 1  # the slider passed through several states
+
+
 def test_every_pass_is_timed_and_drawn_and_an_unknown_one_is_refused():
     sketch = read_sketch(SAMPLES / "house.scap")
     result = simplify(sketch, SimplifyParams())

@@ -222,10 +222,10 @@ def test_raising_epsilon_never_increases_the_primitives():
 def test_result_at_equals_a_fresh_run(sample):
     sketch = read_sketch(SAMPLES / f"{sample}.scap")
     full = simplify(sketch, SimplifyParams(epsilon=0.05))
-    for eps in (0.002, 0.008, 0.015):
+    for eps in (0.002, 0.0, 0.008, 0.015, 0.0):  # through 0, where pieces are whole strokes
         assert_as_fresh(full.at(eps), sketch, eps)
     # the replays shared the output stage's work with the first run (and equal fresh runs)
-    assert len(full._memo.fits) > 0
+    assert len(full._memo.fits) > 0 and len(full._memo.groups) > 0
     with pytest.raises(SketchError, match="outside"):
         full.at(0.5)
 

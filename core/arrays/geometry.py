@@ -15,7 +15,8 @@ from .polylines import arc_lengths, resample_each
 
 __all__ = [
     "Crossings", "Projection", "Reached", "Segments", "lines_from", "polygons_from",
-    "project_on", "ring_is_counter_clockwise", "shoelace_terms", "split_coordinates",
+    "project_on", "ring_is_counter_clockwise", "segment_distance", "shoelace_terms",
+    "split_coordinates",
     "tangents", "tangents_each", "unit_rows",
 ]
 
@@ -130,22 +131,20 @@ def tangents_each(polylines: list[np.ndarray]) -> np.ndarray:
 BRUTE_PAIRS = 16384
 
 
-def _nearest_measured(origin: np.ndarray, end: np.ndarray, points: np.ndarray
-                      ) -> np.ndarray:
-    """The nearest of the segments from ``origin`` to ``end`` (each (m, 2)) to each of
-    ``points`` (of equally near ones the lowest numbered), every pair measured as GEOS
-    measures a point's distance to a segment (``Distance::pointToSegment``: to an end
-    where the foot falls beyond it), so that the same segment is found as a tree's nearest
-    query finds.
+def segment_distance(points: np.ndarray, origin: np.ndarray, end: np.ndarray
+                     ) -> np.ndarray:
+    """How far each of ``points`` lies from the segment from ``origin`` to ``end`` (arrays
+    of points that broadcast together), measured as GEOS measures it
+    (``Distance::pointToSegment``: to an end where the foot falls beyond it), so that a
+    test against a reach here agrees with a tree's ``dwithin`` to the bit.
 
-    >>> _nearest_measured(np.array([[0.0, 0.0], [1.0, 0.0]]), np.array([[1.0, 0.0], [1.0, 1.0]]),
-    ...                   np.array([[0.5, -1.0], [2.0, 0.5], [1.5, -0.5]])).tolist()
-    [0, 1, 0]
+    >>> segment_distance(np.array([[0.5, -1.0], [2.0, 1.0], [3.0, 3.0]]),
+    ...                  np.array([0.0, 0.0]), np.array([[1.0, 0.0]])).tolist()
+    [1.0, 1.4142135623730951, 3.605551275463989]
     """
-    ax, ay = origin[None, :, 0], origin[None, :, 1]
-    bx, by = end[None, :, 0], end[None, :, 1]
+    ax, ay, bx, by = origin[..., 0], origin[..., 1], end[..., 0], end[..., 1]
+    px, py = points[..., 0], points[..., 1]
     vx, vy = bx - ax, by - ay
-    px, py = points[:, 0, None], points[:, 1, None]
     squared = vx * vx + vy * vy
     with np.errstate(divide="ignore", invalid="ignore"):
         r = ((px - ax) * vx + (py - ay) * vy) / squared
@@ -153,10 +152,23 @@ def _nearest_measured(origin: np.ndarray, end: np.ndarray, points: np.ndarray
     dxa, dya = px - ax, py - ay
     dxb, dyb = px - bx, py - by
     to_a = np.sqrt(dxa * dxa + dya * dya)
-    dist = np.where((squared == 0) | (r <= 0), to_a,
+    return np.where((squared == 0) | (r <= 0), to_a,
                     np.where(r >= 1, np.sqrt(dxb * dxb + dyb * dyb),
                              np.abs(s) * np.sqrt(squared)))
-    return np.argmin(dist, axis=1)
+
+
+def _nearest_measured(origin: np.ndarray, end: np.ndarray, points: np.ndarray
+                      ) -> np.ndarray:
+    """The nearest of the segments from ``origin`` to ``end`` (each (m, 2)) to each of
+    ``points`` (of equally near ones the lowest numbered), every pair measured
+    (:func:`segment_distance`), so that the same segment is found as a tree's nearest
+    query finds.
+
+    >>> _nearest_measured(np.array([[0.0, 0.0], [1.0, 0.0]]), np.array([[1.0, 0.0], [1.0, 1.0]]),
+    ...                   np.array([[0.5, -1.0], [2.0, 0.5], [1.5, -0.5]])).tolist()
+    [0, 1, 0]
+    """
+    return np.argmin(segment_distance(points[:, None, :], origin[None], end[None]), axis=1)
 
 
 @dataclass(frozen=True)

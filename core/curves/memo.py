@@ -19,7 +19,7 @@ from typing import Generic, TypeVar
 
 import numpy as np
 
-__all__ = ["MEMO_ENTRIES", "LruStore", "StrokeMemo", "shape_key"]
+__all__ = ["GROUP_ENTRIES", "MEMO_ENTRIES", "LruStore", "StrokeMemo", "shape_key"]
 
 K = TypeVar("K", bound=Hashable)
 V = TypeVar("V")
@@ -27,6 +27,10 @@ V = TypeVar("V")
 #: entries each store keeps: a bound for slider sessions far longer than a run and a few
 #: replays (docs/decisions.md, "memo entries").
 MEMO_ENTRIES = 200_000
+
+#: the entries of the store of group fits, each a line of the drawing (a few KB): a
+#: replay asks for about as many as a run makes, and keeps within some tens of MB
+GROUP_ENTRIES = 20_000
 
 
 class LruStore(Generic[K, V]):
@@ -64,6 +68,8 @@ class LruStore(Generic[K, V]):
         while len(self._data) > self.size:
             self._data.popitem(last=False)
 
+    __setitem__ = put  # so that code keeping a plain dict may be given a store
+
 
 def shape_key(points: np.ndarray, closed: bool = False) -> bytes:
     """A polyline by content, open or closed, as the stores key what is made of it."""
@@ -78,3 +84,23 @@ class StrokeMemo:
     #: smoothing depends on it and the result's params alone): control points and the
     #: polyline sampled from them
     fits: LruStore[bytes, tuple[np.ndarray, np.ndarray]] = field(default_factory=LruStore)
+    #: what pass 4 finds of a set of pieces (:class:`core.lines.fit.GroupFit`), by
+    #: whether anything merged (at epsilon 0 the pieces are the strokes uncut) and the
+    #: pieces' indices: the pieces are the input strokes cut by the result's params, the
+    #: same in every replay above epsilon 0
+    groups: LruStore[tuple[bool, tuple[int, ...]], object] = field(
+        default_factory=lambda: LruStore(GROUP_ENTRIES))
+    #: pass 1's pieces, the input stroke and place in it of each, by whether anything
+    #: merged: a function of the strokes and the result's params alone
+    pieces: LruStore[bool, tuple] = field(default_factory=lambda: LruStore(2))
+    #: pass 2's samples and the states it followed last
+    #: (:class:`core.lines.follow.FollowMemo`), by whether anything merged
+    follow: LruStore[bool, object] = field(default_factory=lambda: LruStore(2))
+    #: what pass 5 finds of two lines (:class:`core.lines.join.Judged`), by their pieces'
+    #: indices (each line the fit of its pieces)
+    judged: LruStore[tuple[tuple[int, ...], tuple[int, ...]], object] = field(
+        default_factory=LruStore)
+    #: how far a line's own ink spreads from it (:func:`core.lines.join.half_width`), by
+    #: its pieces' indices (passes 5 and 6, which run only above epsilon 0, where a line
+    #: is the fit of its pieces)
+    widths: LruStore[tuple[int, ...], float] = field(default_factory=LruStore)

@@ -23,7 +23,8 @@ def run(work: Work) -> Work:
     lines = work.current_lines()
     if not work.merged:
         return work.with_(lines=lines)
-    widths: dict = {}  # each line's, once: asked about pair by pair
+    # each line's, once: asked about pair by pair (lines are still their pieces' fits)
+    widths = {} if work.memo is None else work.memo.widths
 
     def band(k: int, o: int) -> bool:
         return len(one_band(lines, np.array([[k, o]]), work, widths)) == 1

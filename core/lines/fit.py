@@ -41,6 +41,8 @@ Invariant: every piece's ink is stood for by exactly one line (its group's, or i
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import shapely
 
@@ -51,8 +53,9 @@ from ..curves.bezier import smooth_between_corners
 from ..params import Tuning
 from .work import Line, Work
 
-__all__ = ["absorb_lines", "along_pairs", "band_split", "centreline", "clear_band",
-           "components", "fit_group", "fitted_centreline", "regroup", "run", "true_runs"]
+__all__ = ["GroupFit", "absorb_lines", "along_pairs", "band_split", "centreline",
+           "clear_band", "components", "fit_group", "fitted_centreline", "group_fit",
+           "regroup", "run", "true_runs"]
 
 
 def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -366,7 +369,26 @@ def fitted_centreline(pieces: list[np.ndarray], work: Work) -> tuple[np.ndarray,
                       corner=t.cut_angle)
 
 
-def fit_group(members: list[int], work: Work) -> list[Line]:
+class GroupFit(NamedTuple):
+    """What :func:`fit_group` finds of one set of pieces before it fits any part of it
+    again: a band that parts them (``sides``, indices into the set), or their line and
+    which of them it keeps (``keep``; None for a single piece). A function of the pieces
+    and the result's params alone, so a slider's replays share it
+    (:class:`core.curves.memo.StrokeMemo`)."""
+
+    sides: tuple[list[int], list[int]] | None  #: the two sides of a band, or None
+    line: np.ndarray | None  #: the fitted centreline (None where a band parts them)
+    closed: bool  #: whether the line is a ring
+    keep: np.ndarray | None  #: (pieces,) which pieces the line keeps as members
+
+
+def group_fit(members: list[int], work: Work) -> GroupFit:
+    """The :class:`GroupFit` of ``members``, from the work's memo where it has it."""
+    store = getattr(work.memo, "groups", None)
+    key = (work.merged, tuple(members))  # at epsilon 0 the pieces are the whole strokes
+    got = store.get(key) if store is not None else None
+    if got is not None:
+        return got
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
@@ -375,15 +397,31 @@ def fit_group(members: list[int], work: Work) -> list[Line]:
                         t.band_samples)
              if len(members) > 1 else None)
     if sides is not None:
-        return [line for side in sides for line in fit_group([members[k] for k in side],
-                                                              work)]
-    line, closed = fitted_centreline(pieces, work)
-    if len(members) == 1:
-        return [Line(line, closed, tuple(members))]
-    share, leaves = _members_along(line, pieces, reach, t.crumb * work.d, closed)
-    keep = (share >= t.member_share) & ~leaves
-    if keep.all() or not keep.any():
-        return [Line(line, closed, tuple(members))]
+        got = GroupFit(sides, None, False, None)
+    else:
+        line, closed = fitted_centreline(pieces, work)
+        line.flags.writeable = False  # shared by every replay that asks for it
+        keep = None
+        if len(members) > 1:
+            share, leaves = _members_along(line, pieces, reach, t.crumb * work.d, closed)
+            keep = (share >= t.member_share) & ~leaves
+        got = GroupFit(None, line, closed, keep)
+    if store is not None:
+        store.put(key, got)
+    return got
+
+
+def fit_group(members: list[int], work: Work) -> list[Line]:
+    """The lines of one group of pieces (see the module): split at a band that parts
+    them, or fitted as one line, the pieces that do not lie along it split off and
+    fitted again among themselves."""
+    got = group_fit(members, work)
+    if got.sides is not None:
+        return [line for side in got.sides
+                for line in fit_group([members[k] for k in side], work)]
+    keep = got.keep
+    if keep is None or keep.all() or not keep.any():
+        return [Line(got.line, got.closed, tuple(members))]
     kept = [m for m, ok in zip(members, keep) if ok]
     out = fit_group(kept, work)
     return out + [line for rest in components([m for m, ok in zip(members, keep) if not ok],

@@ -8,45 +8,127 @@ Why this carries the merges: before any merge each piece's samples lie on its ow
 removes the curves between two patches, and nothing merged away lies farther than d_eps
 from what remains (the distance guard). So the samples of pieces whose ink the merges
 made one come to follow the same alive curve, and pieces left apart keep their own.
+
+A slider's replays pass through states that share most alive curves, and a curve is the
+same in every state it is alive in (curve ids follow the merge record). So a replay
+starts from the nearest state followed before (:class:`Followed`, kept in the result's
+memo) and follows again only the samples whose curve died or that lie within reach of a
+curve born since: every other sample's nearest curve is unchanged, as the rest of what it
+could follow is a subset of what it could follow then. Ties go to the lower curve id, then
+the earlier segment along it, so that the answer is the same whichever way it is reached.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from functools import cached_property
+
 import numpy as np
+import shapely
 
 from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import arc_lengths
 from .work import Work
 
-__all__ = ["run"]
+__all__ = ["Followed", "run"]
+
+#: states followed kept for replays to start from (each two arrays of the samples)
+KEPT_STATES = 4
 
 
-def run(work: Work) -> Work:
-    state = work.state
-    alive = [c for c in state.alive_curves() if len(state.curves[c]) >= 2]
-    n = int(work.piece_sizes().sum())
-    curve = np.full(n, -1, dtype=np.intp)
-    at = np.full(n, np.nan)
-    if not alive or not n:
-        return work.with_(sample_curve=curve, sample_at=at)
+@dataclass(frozen=True)
+class Followed:
+    """What pass 2 found in one state: its alive curves, and per sample the curve it
+    follows and where along it (-1 and NaN: none)."""
+
+    alive: frozenset[int]  #: the alive curves of two points or more
+    curve: np.ndarray  #: (samples,) curve id per sample, -1 where none
+    at: np.ndarray  #: (samples,) arc length along that curve, NaN where none
+
+
+@dataclass
+class FollowMemo:
+    """The samples' points and tangents, and the states followed last (most recent last);
+    one per set of pieces."""
+
+    points: np.ndarray  #: (samples, 2) every piece's samples, end to end
+    tangent: np.ndarray  #: (samples, 2) their unit tangents
+    states: list[Followed]  #: the states followed last, at most ``KEPT_STATES``
+
+    @cached_property
+    def tree(self) -> shapely.STRtree:
+        """The samples in a tree, made when a replay first asks which lie near a curve."""
+        return shapely.STRtree(shapely.points(self.points))
+
+
+def _nearest_along(state, alive: list[int], points: np.ndarray, tangent: np.ndarray,
+                   work: Work) -> tuple[np.ndarray, np.ndarray]:
+    """The alive curve each of ``points`` follows (-1: none) and where along it (see the
+    module)."""
+    curve = np.full(len(points), -1, dtype=np.intp)
+    at = np.full(len(points), np.nan)
+    if not alive or not len(points):
+        return curve, at
     polylines = [state.curves[c] for c in alive]
     segs = Segments.of(polylines)
     # the arc length along its curve at each segment's first point
     running = np.concatenate([arc_lengths(p) for p in polylines])
-    points = np.concatenate(work.pieces)
-    tan = np.concatenate([tangents(p) for p in work.pieces])
-    i, seg = segs.running_along(points, tan, work.tuning.follow_reach * work.d,
+    i, seg = segs.running_along(points, tangent, work.tuning.follow_reach * work.d,
                                 work.tuning.follow_cos)
     v = segs.vector[seg]
     length = np.hypot(v[:, 0], v[:, 1])
     u = segs.along(seg, points[i])
     foot = segs.origin[seg] + segs.vector[seg] * (u / length)[:, None]
     dist = np.hypot(*(points[i] - foot).T)
-    order = np.lexsort((seg, dist, i))  # nearest first, ties by segment: deterministic
+    # nearest first; ties by segment, in the order of curve ids: the same in every state
+    order = np.lexsort((seg, dist, i))
     i, seg, u = i[order], seg[order], u[order]
     first = np.ones(len(i), bool)
     first[1:] = i[1:] != i[:-1]
     i, seg, u = i[first], seg[first], u[first]
     curve[i] = np.asarray(alive)[segs.polyline[seg]]
     at[i] = running[segs.start[seg]] + u
-    return work.with_(sample_curve=curve, sample_at=at)
+    return curve, at
+
+
+def _memo_of(work: Work) -> FollowMemo:
+    store = getattr(work.memo, "follow", None)
+    got = store.get(work.merged) if store is not None else None
+    if got is None:
+        points = np.concatenate(work.pieces)
+        tangent = np.concatenate([tangents(p) for p in work.pieces])
+        got = FollowMemo(points, tangent, [])
+        if store is not None:
+            store.put(work.merged, got)
+    return got
+
+
+def run(work: Work) -> Work:
+    state = work.state
+    alive = [c for c in state.alive_curves() if len(state.curves[c]) >= 2]
+    n = int(work.piece_sizes().sum())
+    if not alive or not n:
+        return work.with_(sample_curve=np.full(n, -1, dtype=np.intp),
+                          sample_at=np.full(n, np.nan))
+    memo = _memo_of(work)
+    now = frozenset(alive)
+    before = min(memo.states, key=lambda f: len(f.alive ^ now), default=None)
+    if before is None or len(before.alive ^ now) >= len(now):
+        curve, at = _nearest_along(state, alive, memo.points, memo.tangent, work)
+    else:  # again only where a curve died or one was born within reach
+        born = sorted(now - before.alive)
+        dirty = np.isin(before.curve, sorted(before.alive - now))
+        if born:
+            segs = Segments.of([state.curves[c] for c in born])
+            reach = work.tuning.follow_reach * work.d
+            lo = np.minimum(segs.origin, segs.end) - reach
+            hi = np.maximum(segs.origin, segs.end) + reach
+            _, near = memo.tree.query(shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]))
+            dirty[near] = True
+        redo = np.flatnonzero(dirty)
+        curve, at = before.curve.copy(), before.at.copy()
+        curve[redo], at[redo] = _nearest_along(state, alive, memo.points[redo],
+                                               memo.tangent[redo], work)
+    memo.states = [f for f in memo.states if f.alive != now][-(KEPT_STATES - 1):] + [
+        Followed(now, curve, at)]
+    return work.with_(sample_curve=curve.copy(), sample_at=at.copy())

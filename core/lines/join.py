@@ -29,6 +29,8 @@ result does not depend on any order of judging.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import shapely
 
@@ -38,55 +40,95 @@ from ..merge.fourier import curve_descriptors, fd_distance
 from .fit import along_pairs, regroup
 from .work import Line, Work
 
-__all__ = ["half_width", "joined_pairs", "one_band", "run"]
+__all__ = ["Judged", "half_width", "joined_pairs", "one_band", "run"]
 
 
-def joined_pairs(lines: list[Line], work: Work) -> np.ndarray:
-    """Pairs of lines (indices, smaller first) that the curve-curve merge joins at
-    ``work.params.epsilon`` (see the module)."""
+class Judged(NamedTuple):
+    """What pass 5 finds of two lines, whatever the epsilon: a function of the two lines
+    alone (each the fit of its pieces), so kept by their pieces from round to round and
+    from replay to replay (:class:`core.curves.memo.StrokeMemo`)."""
+
+    how: str | None  #: how the curve-curve merge pairs them ('side', 'overlap', 'end')
+    cost: float  #: a side-by-side merge's Fourier distance to the nearer line (else inf)
+    along: bool  #: the shorter lies along the longer (:func:`core.lines.fit.along_pairs`)
+
+
+def _judge(lines: list[Line], a: np.ndarray, b: np.ndarray, work: Work) -> list[Judged]:
+    """:class:`Judged` of each pair ``(a[k], b[k])`` of lines (``a < b``), all at once."""
+    d, params = work.d, work.params
+    used = np.unique(np.concatenate([a, b]))
+    row = np.zeros(len(lines), dtype=np.intp)
+    row[used] = np.arange(len(used))
+    sub = [lines[k] for k in used.tolist()]
+    curves = SampledCurve.many([ln.points for ln in sub], sample_spacing(d))
+    weight = [float(len(ln.members)) for ln in sub]
+    ra, rb = row[a].tolist(), row[b].tolist()
+    found = pair_and_merge_many([(curves[i], weight[i], curves[j], weight[j])
+                                 for i, j in zip(ra, rb)], d, params.angle)
+    cost = np.full(len(a), np.inf)
+    paired = [k for k, (how, m) in enumerate(found) if m is not None and how == "side"]
+    if paired:
+        ends = np.unique(np.concatenate([a[paired], b[paired]]))
+        fds = curve_descriptors([found[k][1] for k in paired]
+                                + [lines[k].points for k in ends.tolist()], params.samples)
+        merged, own = fds[:len(paired)], fds[len(paired):]
+        at = {int(k): r for r, k in enumerate(ends.tolist())}
+        for k, m in zip(paired, merged):
+            cost[k] = min(float(fd_distance(own[at[int(a[k])]], m)),
+                          float(fd_distance(own[at[int(b[k])]], m)))
+    along = {(int(x), int(y)) for x, y in along_pairs(sub, work).tolist()}
+    lengths = np.array([ln.length for ln in sub])
+    return [Judged(how if m is not None else None, float(c),
+                   ((i, j) if lengths[i] <= lengths[j] else (j, i)) in along)
+            for (how, m), c, i, j in zip(found, cost.tolist(), ra, rb)]
+
+
+def joined_pairs(lines: list[Line], work: Work, known=None) -> np.ndarray:
+    """The pairs of lines pass 5 judges one line at ``work.params.epsilon`` (see the
+    module), before the band test: first those the curve-curve merge joins (smaller
+    index first), then those of which the shorter lies along the longer (shorter first).
+    ``known``: :class:`Judged` by the two lines' pieces (a dict, or the memo's store)."""
     if len(lines) < 2:
         return np.zeros((0, 2), dtype=np.intp)
-    d, params = work.d, work.params
+    known = {} if known is None else known
     geoms = np.array([shapely.LineString(ln.points) for ln in lines], dtype=object)
-    a, b = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=d)
+    a, b = shapely.STRtree(geoms).query(geoms, predicate="dwithin", distance=work.d)
     keep = a < b
     a, b = a[keep], b[keep]
-    if not len(a):
-        return np.zeros((0, 2), dtype=np.intp)
-    curves = SampledCurve.many([ln.points for ln in lines], sample_spacing(d))
-    weight = [float(len(ln.members)) for ln in lines]
-    found = pair_and_merge_many([(curves[i], weight[i], curves[j], weight[j])
-                                 for i, j in zip(a.tolist(), b.tolist())], d, params.angle)
+    keys = [(lines[i].members, lines[j].members) for i, j in zip(a.tolist(), b.tolist())]
+    got = [known.get(key) for key in keys]
+    todo = np.array([k for k, g in enumerate(got) if g is None], dtype=np.intp)
+    if len(todo):
+        for k, judged in zip(todo.tolist(), _judge(lines, a[todo], b[todo], work)):
+            got[k] = judged
+            known[keys[k]] = judged
+    eps = work.params.epsilon
     # carried on from one another (overlapping at an end, or end to end across a gap
     # under d_eps): one motion of the line drawn on, whatever the change of shape
-    drawn_on = [k for k, (how, m) in enumerate(found) if m is not None and how != "side"]
-    paired = [k for k, (how, m) in enumerate(found) if m is not None and how == "side"]
-    if not paired:
-        return np.stack([a[drawn_on], b[drawn_on]], axis=1).astype(np.intp)
-    used = np.unique(np.concatenate([a[paired], b[paired]]))
-    fds = curve_descriptors([found[k][1] for k in paired] + [lines[k].points for k in used],
-                            params.samples)
-    merged, own = fds[:len(paired)], fds[len(paired):]
-    row = {int(k): r for r, k in enumerate(used.tolist())}
-    cost = np.array([min(float(fd_distance(own[row[int(a[k])]], m)),
-                         float(fd_distance(own[row[int(b[k])]], m)))
-                     for k, m in zip(paired, merged)])
-    ok = np.sort(np.concatenate([np.asarray(paired)[cost < params.epsilon],
-                                 np.asarray(drawn_on, dtype=np.intp)])).astype(np.intp)
-    return np.stack([a[ok], b[ok]], axis=1).astype(np.intp)
+    joins = np.array([g.how is not None and (g.how != "side" or g.cost < eps) for g in got],
+                     dtype=bool)
+    along = np.array([g.along for g in got], dtype=bool)
+    lengths = np.array([ln.length for ln in lines])
+    swap = lengths[a] > lengths[b]  # shorter first; of two as long, the smaller index
+    short, long_ = np.where(swap, b, a)[along], np.where(swap, a, b)[along]
+    order = np.argsort(short.astype(np.int64) * len(lines) + long_, kind="stable")
+    return np.concatenate([np.stack([a[joins], b[joins]], axis=1),
+                           np.stack([short[order], long_[order]], axis=1)]).astype(np.intp)
 
 
-def half_width(line: Line, work: Work, known: dict[tuple[int, ...], float]) -> float:
+def half_width(line: Line, work: Work, known) -> float:
     """How far a line's own ink spreads from it: the ``tuning.spread_percentile`` of its
     pieces'
-    distances to it (0 for a single clean pass). ``known``: widths by pieces, filled
-    here; a line is the fit of its pieces wherever one set of lines is asked about (and
-    within pass 5, from round to round), so the pieces say which line it is."""
-    if line.members not in known:
+    distances to it (0 for a single clean pass). ``known``: widths by pieces (a dict, or
+    the memo's store), filled here; in passes 5 and 6 a line is the fit of its pieces, so
+    the pieces say which line it is."""
+    width = known.get(line.members)
+    if width is None:
         ink = np.concatenate([work.pieces[m] for m in line.members])
-        known[line.members] = float(np.percentile(project_on(line.points, ink).distance,
-                                                  work.tuning.spread_percentile))
-    return known[line.members]
+        width = float(np.percentile(project_on(line.points, ink).distance,
+                                    work.tuning.spread_percentile))
+        known[line.members] = width
+    return width
 
 
 def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
@@ -118,11 +160,10 @@ def run(work: Work) -> Work:
     # within this pass every line is its pieces' fit (pass 4's, or a join's): fits and
     # widths are kept by pieces from round to round
     fits: dict = {}
-    widths: dict = {}
+    widths = {} if work.memo is None else work.memo.widths
+    judged = {} if work.memo is None else work.memo.judged
     for _ in range(work.tuning.join_rounds):
-        pairs = one_band(lines, np.concatenate([joined_pairs(lines, work),
-                                                along_pairs(lines, work)]), work,
-                         widths)
+        pairs = one_band(lines, joined_pairs(lines, work, judged), work, widths)
         if not len(pairs):
             break
         joined = regroup(lines, pairs, work, fits)

@@ -137,6 +137,20 @@ def _first_return(points: np.ndarray, reach: float, along_cos: float, back: floa
 
 
 def run(work: Work) -> Work:
+    store = getattr(work.memo, "pieces", None)
+    got = store.get(work.merged) if store is not None else None
+    if got is None:
+        got = _cut(work)
+        for piece in got[0]:
+            piece.flags.writeable = False  # shared by every replay
+        if store is not None:
+            store.put(work.merged, got)
+    pieces, owner, index = got
+    return work.with_(pieces=list(pieces), piece_stroke=owner, piece_index=index)
+
+
+def _cut(work: Work) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+    """The pieces of every input stroke, the stroke of each and its place in it."""
     pieces, owner, index = [], [], []
     for k, stroke in enumerate(work.strokes):
         if len(stroke) < 2 or arc_lengths(stroke)[-1] <= 0:
@@ -154,5 +168,4 @@ def run(work: Work) -> Work:
             pieces.append(piece)
             owner.append(k)
             index.append(j)
-    return work.with_(pieces=pieces, piece_stroke=np.asarray(owner, dtype=np.intp),
-                      piece_index=np.asarray(index, dtype=np.intp))
+    return pieces, np.asarray(owner, dtype=np.intp), np.asarray(index, dtype=np.intp)
