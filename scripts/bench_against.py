@@ -213,7 +213,7 @@ def main(argv: list[str] | None = None) -> int:
 
     print(f"\n{'figure':32s} " + " ".join(f"{n:>10s}" for n in arms) + "   this is x faster than")
     for figure, by_arm in figures.items():
-        timed = "MB" not in figure and "exponent" not in figure
+        timed = "MB" not in figure and "exponent" not in figure and by_arm["this"] > 0
         ratios = ", ".join(f"{n} {by_arm[n] / by_arm['this']:.2f}x" for n in arms
                            if n != "this") if timed else ""
         print(f"{figure:32s} " + " ".join(f"{by_arm[n]:10.3f}" for n in arms) + f"   {ratios}")

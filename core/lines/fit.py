@@ -405,6 +405,7 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
         if len(members) > 1:
             share, leaves = _members_along(line, pieces, reach, t.crumb * work.d, closed)
             keep = (share >= t.member_share) & ~leaves
+            keep.flags.writeable = False
         got = GroupFit(None, line, closed, keep)
     if store is not None:
         store.put(key, got)

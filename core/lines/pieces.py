@@ -141,8 +141,8 @@ def run(work: Work) -> Work:
     got = store.get(work.merged) if store is not None else None
     if got is None:
         got = _cut(work)
-        for piece in got[0]:
-            piece.flags.writeable = False  # shared by every replay
+        for array in (*got[0], got[1], got[2]):
+            array.flags.writeable = False  # shared by every replay
         if store is not None:
             store.put(work.merged, got)
     pieces, owner, index = got
