@@ -129,6 +129,7 @@ def run(work: Work) -> Work:
         curve, at = before.curve.copy(), before.at.copy()
         curve[redo], at[redo] = _nearest_along(state, alive, memo.points[redo],
                                                memo.tangent[redo], work)
+    curve.flags.writeable = at.flags.writeable = False  # kept, and handed on as they are
     memo.states = [f for f in memo.states if f.alive != now][-(KEPT_STATES - 1):] + [
         Followed(now, curve, at)]
-    return work.with_(sample_curve=curve.copy(), sample_at=at.copy())
+    return work.with_(sample_curve=curve, sample_at=at)
