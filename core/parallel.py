@@ -17,19 +17,22 @@ from __future__ import annotations
 import multiprocessing
 import os
 import sys
+from collections import Counter, OrderedDict, deque
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 
 from .engine import Recorded, Simplified, simplified
 from .params import SimplifyParams
-from .replay_cache import sketch_digest
+from .replay_cache import ReplayCache, sketch_digest
 from .simplify import from_record, simplify
 from .sketch import Sketch, SketchError
 
-__all__ = ["default_jobs", "local_pool", "simplify_all", "unique_sketches"]
+__all__ = ["KEPT_POINTS", "KeptPool", "default_jobs", "local_pool", "simplify_all",
+           "unique_sketches"]
 
 
 def _simplify_one(args: tuple[Sketch, SimplifyParams, bool, float | None, Recorded | None]
@@ -92,6 +95,17 @@ def _started() -> None:
     (to unpickle it) imports ``core``, the part of a worker's start that costs."""
 
 
+def _spawned(jobs: int) -> ProcessPoolExecutor:
+    """A pool of ``jobs`` spawned workers, each started now (importing ``core``)."""
+    initializer, initargs = _worker_setup()
+    with _main_script_hidden():  # spawned now, not on the first job
+        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context(
+            "spawn"), initializer=initializer, initargs=initargs)
+        for _ in range(jobs):
+            pool.submit(_started)
+    return pool
+
+
 @contextmanager
 def local_pool(jobs: int) -> Iterator[ProcessPoolExecutor]:
     """A pool of ``jobs`` worker processes for :func:`simplify_all`'s ``pool``, started
@@ -106,13 +120,7 @@ def local_pool(jobs: int) -> Iterator[ProcessPoolExecutor]:
     """
     if jobs < 1:
         raise SketchError(f"jobs must be at least 1, got {jobs}")
-    initializer, initargs = _worker_setup()
-    with _main_script_hidden():  # spawned now, not on the first job
-        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context(
-            "spawn"), initializer=initializer, initargs=initargs)
-        for _ in range(jobs):
-            pool.submit(_started)
-    with pool:
+    with _spawned(jobs) as pool:
         yield pool
 
 
@@ -192,3 +200,225 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
             for u, result in enumerate(started.map(_simplify_one, work)):
                 finished(u, result)
     return [done[u] for u in where]
+
+
+#: the ink points (of the sketches simplified, not of the outputs) whose results a
+#: :class:`KeptPool` holds between calls, over all its workers: a result with its base
+#: complex and line-stage memo takes about 1 KB a point (0.2 to 0.7 KB pickled), so
+#: about 400 MB at most; a 13-keyframe shot of product sketches is about 100,000 points
+KEPT_POINTS = 400_000
+
+#: a kept worker's cache of results, made on its first call (None in every other process)
+_kept: ReplayCache | None = None
+
+
+class NeedsRecord:
+    """A kept worker's answer for a sketch it no longer holds, whose merge record the
+    caller keeps: send it, rather than run the merge loop again."""
+
+
+def _kept_one(args: tuple[Sketch, SimplifyParams, bool, float | None, Recorded | None,
+                          bool, int]) -> tuple[Simplified | SketchError | NeedsRecord, str]:
+    """In a kept worker: one sketch through the worker's own :class:`ReplayCache`, and how
+    it was had: ``"replayed"`` (from the result held here), ``"rebuilt"`` (from the record
+    sent), or ``"ran"`` (the merge loop, on to ``cover``: the output carries its record)."""
+    global _kept
+    sketch, params, regions, cover, recorded, has_record, points = args
+    if _kept is None or _kept.points != points:
+        _kept = ReplayCache(size=1 << 30, records=1 << 30, points=points)
+    if recorded is not None:
+        _kept.remember(sketch, params, recorded)
+    elif has_record and not _kept.has_result(sketch, params):
+        return NeedsRecord(), "asked"
+    runs, rebuilds = _kept.runs, _kept.rebuilds
+    try:
+        result = _kept.result(sketch, params, cover=cover)
+        how = ("ran" if _kept.runs > runs else "rebuilt" if _kept.rebuilds > rebuilds
+               else "replayed")
+        return simplified(result, regions, record=how == "ran" and cover is not None), how
+    except SketchError as exc:
+        return exc, "refused"
+
+
+class KeptPool:
+    """Worker processes that keep what they simplified, for a slider over many drawings
+    (Blender's redo panel on a shot): each distinct sketch goes back, call after call, to
+    the worker that first simplified it, whose own :class:`ReplayCache` holds its result,
+    so that a new epsilon is a replay there (with the line stage's memo: what did not
+    change is not done again), not a rebuild of the base complex from a record.
+
+    A sketch not yet placed goes to the first worker free (the largest first); the
+    results kept are bounded by ``points`` of ink over all workers (:data:`KEPT_POINTS`),
+    the least recently used dropped first. A worker that dropped a sketch's result asks
+    for the record the caller keeps (``records``); a worker that died is started again.
+    Each output equals ``simplify_all``'s. ``counts`` says how every sketch was had
+    (:func:`_kept_one`), for tests and benchmarks.
+
+    >>> from core import Sketch, Stroke, SimplifyParams
+    >>> lines = [Stroke([[0, y], [50, y + 3], [100, y]]) for y in (0, 1, 40, 41)]
+    >>> with KeptPool(2) as pool:
+    ...     first = pool.simplify([Sketch(lines)], SimplifyParams(epsilon=0.02), cover=0.06)
+    ...     again = pool.simplify([Sketch(lines)], SimplifyParams(epsilon=0.01))
+    ...     len(first[0].strokes), len(again[0].strokes), sorted(pool.counts.items())
+    (2, 2, [('ran', 1), ('replayed', 1)])
+    """
+
+    #: the sketches whose worker is remembered, the least recently sent forgotten first
+    HOMES = 100_000
+
+    def __init__(self, jobs: int, points: int = KEPT_POINTS) -> None:
+        if jobs < 1:
+            raise SketchError(f"jobs must be at least 1, got {jobs}")
+        self.jobs, self.points = jobs, points
+        self.counts: Counter[str] = Counter()
+        self._workers = [_spawned(1) for _ in range(jobs)]
+        self._home: OrderedDict[str, int] = OrderedDict()  # sketch digest -> its worker
+
+    def __enter__(self) -> KeptPool:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Stop the workers (what they kept goes with them)."""
+        for worker in self._workers:
+            worker.shutdown(wait=True, cancel_futures=True)
+        self._workers, self._home = [], OrderedDict()
+
+    @property
+    def alive(self) -> bool:
+        return bool(self._workers)
+
+    def start(self, sketches: list[Sketch], params: SimplifyParams, regions: bool = False,
+              cover: float | None = None, records: list[Recorded | None] | None = None
+              ) -> KeptRun:
+        """The sketches sent to their workers; the :class:`KeptRun` says what came back."""
+        if not self._workers:
+            raise SketchError("this pool was closed")
+        return KeptRun(self, sketches, params, regions, cover, records)
+
+    def simplify(self, sketches: list[Sketch], params: SimplifyParams, regions: bool = False,
+                 cover: float | None = None, records: list[Recorded | None] | None = None,
+                 progress: Callable[[int, int, int], None] | None = None
+                 ) -> list[Simplified | SketchError]:
+        """What each sketch simplifies into, as :func:`simplify_all` says (``cover``,
+        ``records`` and ``progress`` alike), each distinct sketch on its own worker."""
+        run = self.start(sketches, params, regions, cover, records)
+        while not run.done:
+            for k in run.wait():
+                if progress is not None:
+                    progress(run.finished, run.total, k)
+        return run.outputs
+
+    def _send(self, w: int, args: tuple) -> Future:
+        try:
+            return self._workers[w].submit(_kept_one, args)
+        except BrokenProcessPool:  # it died while idle: the sketch asks for its record
+            self._restart(w)
+            return self._workers[w].submit(_kept_one, args)
+
+    def _placed(self, digest: str, w: int) -> None:
+        self._home[digest] = w
+        self._home.move_to_end(digest)
+        while len(self._home) > self.HOMES:
+            self._home.popitem(last=False)
+
+    def _restart(self, w: int) -> None:
+        """A new worker in place of worker ``w``, which died; nothing is homed on it."""
+        self._workers[w].shutdown(wait=False, cancel_futures=True)
+        self._workers[w] = _spawned(1)
+        for digest in [d for d, home in self._home.items() if home == w]:
+            del self._home[digest]
+
+
+class KeptRun:
+    """One call's sketches on a :class:`KeptPool`, one in flight per worker: each sketch
+    placed before goes to its worker, the others to whichever worker is free first. Made by
+    :meth:`KeptPool.start`; :meth:`wait` advances it (an interface's timer can, a little
+    at a time); :attr:`outputs` holds each sketch's output once it came (None before)."""
+
+    def __init__(self, pool: KeptPool, sketches: list[Sketch], params: SimplifyParams,
+                 regions: bool, cover: float | None, records: list[Recorded | None] | None
+                 ) -> None:
+        self._pool, self._sketches = pool, sketches
+        self._firsts, self._where = unique_sketches(sketches)
+        self._digests = [sketch_digest(sketches[k]) for k in self._firsts]
+        self._records = [records[k] if records else None for k in self._firsts]
+        self._call = (params, regions, cover, max(1, pool.points // pool.jobs))
+        sizes = [sum(len(s.points) for s in sketches[k].strokes) for k in self._firsts]
+        self._homed: list[deque[int]] = [deque() for _ in range(pool.jobs)]
+        self._free = deque(sorted((u for u, d in enumerate(self._digests)
+                                   if d not in pool._home), key=lambda u: -sizes[u]))
+        for u, digest in enumerate(self._digests):
+            if digest in pool._home:
+                self._homed[pool._home[digest]].append(u)
+        self._done: dict[int, Simplified | SketchError] = {}
+        self._running: dict[Future, tuple[int, int]] = {}
+        self._died: Counter[int] = Counter()  # by sketch: how many workers died on it
+        self.outputs: list[Simplified | SketchError | None] = [None] * len(sketches)
+        for w in range(pool.jobs):
+            self._feed(w)
+
+    @property
+    def total(self) -> int:
+        """How many distinct sketches the run simplifies."""
+        return len(self._firsts)
+
+    @property
+    def finished(self) -> int:
+        return len(self._done)
+
+    @property
+    def done(self) -> bool:
+        return not self._running
+
+    def wait(self, timeout: float | None = None) -> list[int]:
+        """Wait up to ``timeout`` seconds (None: until one finishes) and take what came
+        back: the index of each sketch (the first of identical ones) finished now."""
+        now: list[int] = []
+        if not self._running:
+            return now
+        finished, _ = wait(self._running, timeout, return_when=FIRST_COMPLETED)
+        for future in finished:
+            w, u = self._running.pop(future)
+            try:
+                out, how = future.result()
+            except BrokenProcessPool:  # the worker died (killed, out of memory)
+                self._pool._restart(w)
+                self._died[u] += 1
+                if self._died[u] < 2:
+                    self._send(w, u, with_record=True)
+                    continue
+                out, how = SketchError("the worker simplifying this drawing died twice "
+                                       "(out of memory?)"), "refused"
+            self._pool.counts[how] += 1
+            if isinstance(out, NeedsRecord):
+                self._send(w, u, with_record=True)
+                continue
+            self._done[u] = out
+            for k, v in enumerate(self._where):
+                if v == u:
+                    self.outputs[k] = out
+            now.append(self._firsts[u])
+            self._feed(w)
+        return now
+
+    def cancel(self) -> None:
+        """Take nothing more: what runs now finishes in its worker (and is kept there)."""
+        self._homed = [deque() for _ in self._homed]
+        self._free.clear()
+
+    def _send(self, w: int, u: int, with_record: bool = False) -> None:
+        self._pool._placed(self._digests[u], w)
+        params, regions, cover, points = self._call
+        recorded = self._records[u]
+        args = (self._sketches[self._firsts[u]], params, regions, cover,
+                recorded if with_record else None, recorded is not None, points)
+        self._running[self._pool._send(w, args)] = (w, u)
+
+    def _feed(self, w: int) -> None:
+        if self._homed[w]:
+            self._send(w, self._homed[w].popleft())
+        elif self._free:  # new to the worker: its record, if kept, goes along
+            self._send(w, self._free.popleft(), with_record=True)

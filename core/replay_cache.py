@@ -56,15 +56,20 @@ class ReplayCache:
     merge with a merged curve's points, a few MB for the largest sketches): ``records`` of
     them are kept, so that every drawing of a long shot replays (a redo panel's epsilon
     step then costs, per drawing, the base complex built again, the replay and the output
-    stage; the merge loop is not run again)."""
+    stage; the merge loop is not run again). ``points``, when given, bounds the results
+    kept by their sketches' ink points as well (a result with its line-stage memo takes
+    about 1 KB a point): a :class:`core.parallel.KeptPool` worker's bound."""
 
     def __init__(self, size: int = 8, records: int = 512,
-                 output_points: int = OUTPUT_POINTS) -> None:
+                 output_points: int = OUTPUT_POINTS, points: int | None = None) -> None:
         self.size = size
         self.records = records
         self.output_points = output_points
+        self.points = points
         self.runs = 0  # how many times simplify actually ran
+        self.rebuilds = 0  # how many results were rebuilt from a kept record
         self._results: OrderedDict[tuple, SimplifyResult] = OrderedDict()
+        self._result_points: dict[tuple, int] = {}
         self._records: OrderedDict[tuple, Recorded] = OrderedDict()
         self._outputs: OrderedDict[tuple, tuple[Simplified, int]] = OrderedDict()
         self._output_points = 0
@@ -101,23 +106,30 @@ class ReplayCache:
         kept = self._records.get(self._key(sketch, params))
         return kept if kept is not None and kept.covers >= params.epsilon else None
 
-    def result(self, sketch: Sketch, params: SimplifyParams) -> SimplifyResult:
+    def result(self, sketch: Sketch, params: SimplifyParams, cover: float | None = None
+               ) -> SimplifyResult:
         """The result ``simplify(sketch, params)`` gives, replayed from a cached run (or
-        rebuilt from a kept record) when one covers ``params.epsilon``."""
+        rebuilt from a kept record) when one covers ``params.epsilon``; otherwise run, its
+        merge loop on to ``cover`` (by default :meth:`cover`'s)."""
         key = self._key(sketch, params)
         cached = self._results.get(key)
         recorded = self._records.get(key)
         if (cached is None or cached.covers < params.epsilon) and recorded is not None \
                 and recorded.covers >= params.epsilon:
+            self.rebuilds += 1
             cached = from_record(sketch, replace(recorded.params, epsilon=params.epsilon),
                                  list(recorded.merges), recorded.covers)
         elif cached is None or cached.covers < params.epsilon:
             self.runs += 1
-            cached = simplify(sketch, params, cover=self.cover(sketch, params))
+            cached = simplify(sketch, params, cover=self.cover(sketch, params)
+                              if cover is None else max(cover, params.epsilon))
         self._results[key] = cached
         self._results.move_to_end(key)
-        while len(self._results) > self.size:
-            self._results.popitem(last=False)
+        self._result_points[key] = sum(len(s.points) for s in sketch.strokes)
+        while len(self._results) > 1 and (
+                len(self._results) > self.size or self.points is not None
+                and sum(self._result_points.values()) > self.points):
+            del self._result_points[self._results.popitem(last=False)[0]]
         return cached if cached.params.epsilon == params.epsilon else cached.at(params.epsilon)
 
     def output(self, sketch: Sketch, params: SimplifyParams, regions: bool
@@ -147,6 +159,7 @@ class ReplayCache:
     def clear(self) -> None:
         """Forget everything kept (results, records, outputs)."""
         self._results.clear()
+        self._result_points.clear()
         self._records.clear()
         self._outputs.clear()
         self._output_points = 0

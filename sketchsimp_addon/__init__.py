@@ -30,6 +30,11 @@ def register() -> None:
 def unregister() -> None:
     import bpy
 
+    from .run import stop_kept_pool, stop_kept_pool_if_idle
+
+    stop_kept_pool()  # a shot's workers, kept for the redo panel
+    if bpy.app.timers.is_registered(stop_kept_pool_if_idle):
+        bpy.app.timers.unregister(stop_kept_pool_if_idle)
     if hasattr(bpy.types.Scene, "sketchsimp"):
         del bpy.types.Scene.sketchsimp
     for cls in reversed(_classes()):

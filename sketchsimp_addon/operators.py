@@ -10,7 +10,13 @@ import bpy
 
 from ..core import SketchError
 from .options import SimplifyOptions
-from .run import StepwiseRun, simplify_curve_object, simplify_object
+from .run import (
+    KEPT_IDLE,
+    StepwiseRun,
+    simplify_curve_object,
+    simplify_object,
+    stop_kept_pool_if_idle,
+)
 from .write import write_curve_result, write_results
 
 __all__ = ["MODAL_FROM", "SKETCHSIMP_OT_simplify", "scene_range"]
@@ -90,16 +96,16 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         run = self._run
         try:
             deadline = time.perf_counter() + TICK
-            run.step()
+            run.step(TICK)
             while not run.done and time.perf_counter() < deadline:
-                run.step()
+                run.step(max(0.0, deadline - time.perf_counter()))
         except Exception as exc:  # the operator boundary, as in execute
             traceback.print_exc()
             self.report({"ERROR"}, f"Simplify Sketch failed: {type(exc).__name__}: {exc}")
             return self._end(context, failed=True)
-        context.window_manager.progress_update(len(run.outputs))
+        context.window_manager.progress_update(run.finished)
         context.workspace.status_text_set(
-            f"Simplify Sketch: {len(run.outputs)} of {run.total} drawings (Esc to cancel)")
+            f"Simplify Sketch: {run.finished} of {run.total} drawings (Esc to cancel)")
         return self._end(context) if run.done else {"RUNNING_MODAL"}
 
     def _end(self, context, failed: bool = False):
@@ -155,6 +161,9 @@ class SKETCHSIMP_OT_simplify(SimplifyOptions, bpy.types.Operator):
         return {"FINISHED"}
 
     def _finish(self, context, report) -> None:
+        if not bpy.app.timers.is_registered(stop_kept_pool_if_idle):  # a shot's pool
+            bpy.app.timers.register(stop_kept_pool_if_idle, first_interval=KEPT_IDLE,
+                                    persistent=True)
         settings = getattr(context.scene, "sketchsimp", None)
         if settings is not None:
             settings.last_run = report.message()

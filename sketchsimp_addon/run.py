@@ -9,6 +9,7 @@ Kept apart from the operator class so that the operator is only the Blender-faci
 from __future__ import annotations
 
 import time
+from collections import deque
 from dataclasses import replace
 
 from ..core import (
@@ -22,6 +23,7 @@ from ..core import (
     simplify,
     simplify_all,
 )
+from ..core.parallel import KeptPool, KeptRun
 from .convert import (
     drawing_from_polylines,
     drawing_plane,
@@ -37,8 +39,9 @@ from .records import DrawingResult, Prepared, RunReport
 from .write import fill_materials
 
 __all__ = [
-    "held_across_frames", "POOL_FROM", "REPLAY", "results_of", "simplified_here",
-    "simplify_curve_object", "simplify_object", "StepwiseRun",
+    "held_across_frames", "KEPT_IDLE", "kept_pool", "POOL_FROM", "REPLAY", "results_of",
+    "simplified_here", "simplify_curve_object", "simplify_object", "StepwiseRun",
+    "stop_kept_pool", "stop_kept_pool_if_idle",
 ]
 
 
@@ -82,10 +85,12 @@ def _fills_wanted(options) -> bool:
 
 def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport
                ) -> list[DrawingResult]:
-    """The new strokes of each drawing whose output is in ``outputs`` (the first
-    ``len(outputs)`` of ``gathered.prepared``: a cancelled run gives only what finished),
-    and the empty keyframes to keep; counts and skips go to ``report``."""
-    prepared = gathered.prepared[:len(outputs)]
+    """The new strokes of each drawing of ``gathered.prepared`` whose output is in
+    ``outputs`` (None where it is not: a cancelled run gives only what finished), and the
+    empty keyframes to keep; counts and skips go to ``report``."""
+    finished = [k for k, out in enumerate(outputs) if out is not None]
+    prepared = [gathered.prepared[k] for k in finished]
+    outputs = [outputs[k] for k in finished]
     empty, held = gathered.empty, gathered.held
     fills = _fills_wanted(options)
     if options.stable and options.scope in ("ALL", "RANGE"):
@@ -136,42 +141,154 @@ def simplified_here(sketch, params: SimplifyParams, fills: bool):
     return out
 
 
+#: the pool a shot's drawings go to (:class:`core.parallel.KeptPool`), started by the
+#: first run of :data:`POOL_FROM` drawings or more and kept between presses, so that the
+#: redo panel's steps go back to the workers holding each drawing's result; stopped by
+#: :func:`stop_kept_pool` (the add-on's unregister) or :func:`stop_kept_pool_if_idle`
+_kept: KeptPool | None = None
+_kept_used = 0.0  # time.monotonic() of its last use
+#: seconds a kept pool may go unused before :func:`stop_kept_pool_if_idle` stops it (its
+#: workers and what they keep: about 100 MB each, and up to KEPT_POINTS' bound)
+KEPT_IDLE = 600.0
+
+
+def kept_pool(jobs: int) -> KeptPool:
+    """The kept pool, of ``jobs`` workers (started, or started again for another count)."""
+    global _kept, _kept_used
+    if _kept is None or not _kept.alive or _kept.jobs != jobs:
+        stop_kept_pool()
+        _kept = KeptPool(jobs)
+    _kept_used = time.monotonic()
+    return _kept
+
+
+def stop_kept_pool() -> None:
+    """Stop the kept pool's workers, if it runs."""
+    global _kept
+    if _kept is not None:
+        _kept.close()
+        _kept = None
+
+
+def stop_kept_pool_if_idle() -> float | None:
+    """For ``bpy.app.timers``: stop the kept pool once unused for :data:`KEPT_IDLE`
+    seconds (None: the timer ends), or the seconds until it may be."""
+    if _kept is None:
+        return None
+    left = KEPT_IDLE - (time.monotonic() - _kept_used)
+    if left > 0:
+        return left
+    stop_kept_pool()
+    return None
+
+
 class StepwiseRun:
-    """A run over many drawings a few at a time, for the modal operator: each
-    :meth:`step` simplifies the next drawing (through :data:`REPLAY`); :meth:`finish`
-    turns what finished into results, whether the run ended or was cancelled, so that a
-    cancelled run writes every drawing it finished and nothing of the others.
+    """A run over the chosen drawings of a Grease Pencil object, advanced by :meth:`step`:
+    the modal operator steps it from its timer (Blender stays drawn, Esc cancels),
+    :func:`simplify_object` steps it through. :meth:`finish` turns what finished into
+    results, whether the run ended or was cancelled, so that a cancelled run writes every
+    drawing it finished and nothing of the others.
+
+    Each drawing's output is, in this order: one already shown at these params (a lookup
+    in :data:`REPLAY`: a step back in the redo panel); else, with ``engine`` (a cluster),
+    ``engine(sketches, regions)``; with ``pool`` (a batch's :func:`core.parallel.local_pool`),
+    :func:`core.simplify_all` there; from :data:`POOL_FROM` drawings on (unless ``jobs``
+    is 1), the :func:`kept_pool`'s workers, which keep each drawing's result for the redo
+    panel's next step, the merge loop run on to the slider's top (COVERED_EPSILON) so that
+    no step up runs it again; else in this process through :data:`REPLAY`, a drawing a step.
 
     Args:
-        obj, options, params, frame_number, frame_range: as for :func:`simplify_object`.
+        obj, options, params, frame_number, frame_range, jobs, pool, engine: as for
+        :func:`simplify_object`.
     """
 
     def __init__(self, obj, options, params: SimplifyParams, frame_number: int,
-                 frame_range: tuple[int, int] | None = None) -> None:
+                 frame_range: tuple[int, int] | None = None, jobs: int | None = None,
+                 pool=None, engine=None) -> None:
         self.obj, self.options, self.params = obj, options, params
         self.report = RunReport()
         self.t0 = time.perf_counter()
         self.gathered = gather_drawings(obj, options, frame_number, self.report, frame_range)
-        self.fills = _fills_wanted(options)
-        self.outputs: list = []
+        self.fills = fills = _fills_wanted(options)
+        prepared = self.gathered.prepared
+        if engine is not None:  # everything there, at the first step
+            self.outputs: list = [None] * len(prepared)
+            self._at_once = lambda: engine([p.sketch for p in prepared], fills)
+            self._here, self._kept = deque(), None
+            return
+        self._at_once = None
+        self.outputs = [REPLAY.output(p.sketch, params, fills) for p in prepared]
+        todo = [k for k, out in enumerate(self.outputs) if out is None]
+        if jobs is None:
+            jobs = default_jobs() if pool is not None or len(prepared) >= POOL_FROM else 1
+        pooled = [k for k in todo if not REPLAY.has_result(prepared[k].sketch, params)] \
+            if jobs > 1 else []
+        self._here = deque(k for k in todo if k not in set(pooled))
+        self._kept: tuple[KeptRun, list[int]] | None = None
+        if not pooled:
+            return
+        sketches = [prepared[k].sketch for k in pooled]
+        cover = max(params.epsilon, COVERED_EPSILON)
+        records = [REPLAY.recorded(s, params) for s in sketches]
+        if pool is not None:  # a batch's pool: all at the first step
+            self._at_once = lambda: self._took(pooled, simplify_all(
+                sketches, params, jobs, regions=fills, cover=cover, records=records,
+                pool=pool))
+        else:
+            self._kept = (kept_pool(jobs).start(sketches, params, fills, cover, records),
+                          pooled)
 
     @property
     def total(self) -> int:
-        return len(self.gathered.prepared)
+        return len(self.outputs)
+
+    @property
+    def finished(self) -> int:
+        return sum(out is not None for out in self.outputs)
 
     @property
     def done(self) -> bool:
-        return len(self.outputs) == self.total
+        return self.finished == self.total
 
-    def step(self) -> None:
-        """Simplify the next drawing."""
-        item = self.gathered.prepared[len(self.outputs)]
-        self.outputs.append(simplified_here(item.sketch, self.params, self.fills))
+    def step(self, timeout: float | None = None) -> None:
+        """Go on: take what the pool finished (waiting up to ``timeout`` seconds for one,
+        None: until one finishes, when nothing is to be done here) and simplify one drawing
+        here."""
+        if self._at_once is not None:
+            outputs, self._at_once = self._at_once(), None
+            if outputs is not None:  # the engine's, all of them
+                self.outputs = list(outputs)
+            return
+        if self._kept is not None:
+            run, pooled = self._kept
+            run.wait(0 if self._here else timeout)
+            self._took(pooled, run.outputs)
+            if run.done:
+                self._kept = None
+        if self._here:
+            k = self._here.popleft()
+            self.outputs[k] = simplified_here(self.gathered.prepared[k].sketch, self.params,
+                                              self.fills)
+
+    def _took(self, pooled: list[int], outputs: list) -> None:
+        """The pool's outputs (None: not yet) for drawings ``pooled``: kept for lookups,
+        their merge records for rebuilds elsewhere."""
+        for k, out in zip(pooled, outputs):
+            if out is None or self.outputs[k] is not None:
+                continue
+            sketch = self.gathered.prepared[k].sketch
+            if not isinstance(out, SketchError):
+                if out.record is not None:
+                    REPLAY.remember(sketch, self.params, out.record)
+                REPLAY.keep_output(sketch, self.params, self.fills, out)
+            self.outputs[k] = out
 
     def finish(self) -> list[DrawingResult]:
         """The results of the drawings finished so far (all of them unless cancelled)."""
         if not self.done:
-            self.report.notes.append(f"cancelled: {len(self.outputs)} of {self.total} "
+            if self._kept is not None:
+                self._kept[0].cancel()
+            self.report.notes.append(f"cancelled: {self.finished} of {self.total} "
                                      "drawing(s) done, the rest left as they were")
         results = results_of(self.obj, self.options, self.gathered, self.outputs,
                              self.report)
@@ -185,54 +302,22 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
                     ) -> tuple[RunReport, list[DrawingResult]]:
     """Simplify the chosen drawings of a Grease Pencil object; write nothing yet.
 
-    Drawings are read here (:func:`gather_drawings`), simplified by the core (in ``jobs``
-    processes, those of ``pool`` when given, a :func:`core.parallel.local_pool` kept by
-    the caller across objects and files; by default a pool of all cores from
-    :data:`POOL_FROM` drawings on, any in a given pool; in this
-    process through the :data:`REPLAY` cache, so that a new epsilon for the same drawing is
-    a replay; or by ``engine(sketches, regions)``, e.g. a Dask cluster, when given), and
-    turned into new strokes here. ``progress`` is called with the fraction of drawings done.
+    Drawings are read here (:func:`gather_drawings`), simplified as :class:`StepwiseRun`
+    says (in ``jobs`` processes: those of ``pool`` when given, a
+    :func:`core.parallel.local_pool` kept by the caller across objects and files; by
+    default the :func:`kept_pool` of all cores from :data:`POOL_FROM` drawings on, any in
+    a given pool; in this process through the :data:`REPLAY` cache, so that a new epsilon
+    for the same drawing is a replay; or by ``engine(sketches, regions)``, e.g. a Dask
+    cluster, when given), and turned into new strokes here. ``progress`` is called with
+    the fraction of drawings done.
     """
-    report = RunReport()
-    t0 = time.perf_counter()
-    gathered = gather_drawings(obj, options, frame_number, report, frame_range)
-    prepared = gathered.prepared
-    if jobs is None:
-        jobs = default_jobs() if pool is not None or len(prepared) >= POOL_FROM else 1
-    fills = _fills_wanted(options)
-    if engine is not None:
-        outputs = engine([p.sketch for p in prepared], fills)
-    elif jobs == 1:  # here, through the replay cache: the redo panel's slider replays
-        outputs = []
-        for k, item in enumerate(prepared):
-            outputs.append(simplified_here(item.sketch, params, fills))
-            if progress is not None:
-                progress((k + 1) / len(prepared))
-    else:  # a pool; an epsilon step in the redo panel looks up the outputs of an epsilon
-        # already shown, replays kept results here, and rebuilds the drawings whose merge
-        # records are kept, in the pool. A shot's first run covers the slider's whole range
-        # (COVERED_EPSILON), so that no step up runs a merge loop again
-        outputs = [REPLAY.output(p.sketch, params, fills) for p in prepared]
-        todo = [k for k, p in enumerate(prepared)
-                if outputs[k] is None and not REPLAY.has_result(p.sketch, params)]
-        pooled = simplify_all([prepared[k].sketch for k in todo], params, jobs,
-                              None if progress is None else lambda done, total, _k:
-                              progress(done / len(prepared)), regions=fills,
-                              cover=max(params.epsilon, COVERED_EPSILON),
-                              records=[REPLAY.recorded(prepared[k].sketch, params)
-                                       for k in todo], pool=pool) if todo else []
-        for k, out in zip(todo, pooled):
-            if not isinstance(out, SketchError):
-                if out.record is not None:
-                    REPLAY.remember(prepared[k].sketch, params, out.record)
-                REPLAY.keep_output(prepared[k].sketch, params, fills, out)
-            outputs[k] = out
-        for k in range(len(prepared)):
-            if outputs[k] is None:
-                outputs[k] = simplified_here(prepared[k].sketch, params, fills)
-    results = results_of(obj, options, gathered, outputs, report)
-    report.seconds = time.perf_counter() - t0
-    return report, results
+    run = StepwiseRun(obj, options, params, frame_number, frame_range, jobs, pool, engine)
+    while not run.done:
+        run.step()
+        if progress is not None:
+            progress(run.finished / run.total)
+    results = run.finish()
+    return run.report, results
 
 
 def held_across_frames(prepared: list[Prepared], outputs: list) -> list:

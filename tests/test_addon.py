@@ -971,41 +971,52 @@ def test_a_circle_drawn_half_red_half_blue_keeps_each_half_its_colour():
     assert is_red[upper].all() and is_blue[lower].all()
 
 
-def test_a_cancelled_stepwise_run_writes_the_drawings_it_finished_and_nothing_else():
-    """The modal operator's run, a drawing a step: cancelled after two of four keyframes,
-    the two are written whole and the other two left as they were; run to the end, it
-    gives what the one-go run gives."""
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_cancelled_stepwise_run_writes_the_drawings_it_finished_and_nothing_else(
+        jobs, monkeypatch):
+    """The modal operator's run, in this process a drawing a step (jobs 1) or in the kept
+    pool (jobs 2): cancelled after two of four keyframes, the two are written whole and
+    the other two left as they were; run to the end, it gives what the one-go run gives."""
     from types import SimpleNamespace
 
-    from sketchsimp.core import SimplifyParams
+    from sketchsimp.core import ReplayCache, SimplifyParams
     from sketchsimp.sketchsimp_addon import run, write
 
+    run.stop_kept_pool()  # nothing kept by other tests
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())
     ob = make_object({1: "house", 5: "cup", 9: "fish", 13: "house"})
     before = {f.frame_number: snapshot(f.drawing) for f in ob.data.layers["Lines"].frames}
     options = SimpleNamespace(scope="ALL", layers="ACTIVE", output="LAYER", hide_source=True,
                               as_curve=False, fill_regions=False, stable=False)
-    stepwise = run.StepwiseRun(ob, options, SimplifyParams(), 1)
+    stepwise = run.StepwiseRun(ob, options, SimplifyParams(), 1, jobs=jobs)
     assert stepwise.total == 4
-    stepwise.step()
-    stepwise.step()
+    while stepwise.finished < 2:
+        stepwise.step()
+    done = sorted(f.frame_number for p, out in zip(stepwise.gathered.prepared,
+                                                   stepwise.outputs)
+                  if out is not None for f in p.frames)
     results = stepwise.finish()
-    assert [r.frames[0].frame_number for r in results] == [1, 5]
-    assert "cancelled: 2 of 4 drawing(s) done" in stepwise.report.message()
+    assert [r.frames[0].frame_number for r in results] == done
+    if jobs == 1:
+        assert done == [1, 5]  # in order, a drawing a step
+    assert f"cancelled: {len(done)} of 4 drawing(s) done" in stepwise.report.message()
     write.write_results(ob, options, results, bpy.context)
     out = ob.data.layers["Lines simplified"]
-    # the source is hidden: the two not done are shown on the result layer as drawn
+    # the source is hidden: the ones not done are shown on the result layer as drawn
     assert sorted(f.frame_number for f in out.frames) == [1, 5, 9, 13]
     source = {f.frame_number: strokes_of(f.drawing) for f in ob.data.layers["Lines"].frames}
     shown = {f.frame_number: strokes_of(f.drawing) for f in out.frames}
-    for k in (9, 13):
+    for k in set(source) - set(done):
         assert len(shown[k]) == len(source[k])
         assert all(np.allclose(a, b) for a, b in zip(shown[k], source[k]))
-    assert len(shown[1]) < len(source[1]) and len(shown[5]) < len(source[5])
+    for k in done:
+        assert len(shown[k]) < len(source[k])
     assert {f.frame_number: snapshot(f.drawing)
             for f in ob.data.layers["Lines"].frames} == before
-    whole = run.StepwiseRun(ob, options, SimplifyParams(), 1)
+    whole = run.StepwiseRun(ob, options, SimplifyParams(), 1, jobs=jobs)
     while not whole.done:
         whole.step()
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())
     _, at_once = run.simplify_object(ob, options, SimplifyParams(), 1, jobs=1)
     assert [len(r.new.knots) for r in whole.finish()] == [len(r.new.knots) for r in at_once]
 
@@ -1056,36 +1067,38 @@ def test_a_batch_pool_already_started_takes_even_two_keyframes(monkeypatch):
     assert [len(r.new.knots) for r in pooled] == [len(r.new.knots) for r in here] != []
 
 
-def test_an_epsilon_step_on_a_pooled_shot_replays_every_drawing(monkeypatch):
-    """Five keyframes go through the pool; the workers send back their merge records, so
-    that a new epsilon (the redo panel) rebuilds each drawing from its record (in the
-    pool: no merge loop run again), and gives what a fresh run at that epsilon gives."""
+def test_an_epsilon_step_on_a_pooled_shot_replays_every_drawing_in_its_kept_worker(
+        monkeypatch):
+    """Five keyframes go through the kept pool; a new epsilon (the redo panel) goes back
+    to the worker holding each drawing's result and replays it there (no merge loop run
+    again, no base complex rebuilt), and gives what a fresh run at that epsilon gives.
+    Once the pool is stopped, the merge records kept here rebuild the drawings in a new
+    one."""
     from sketchsimp.core import ReplayCache, SimplifyParams
     from sketchsimp.sketchsimp_addon import run
     monkeypatch.setattr(run, "REPLAY", ReplayCache())
+    run.stop_kept_pool()
     samples = ["house", "cup", "fish", "house", "cup"]
     keys = {1 + 4 * k: name for k, name in enumerate(samples)}
     ob = make_object(keys)
     assert bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.02) == {"FINISHED"}
     assert run.REPLAY.runs == 0  # all in the pool
+    pool = run.kept_pool(run.default_jobs())
+    assert dict(pool.counts) == {"ran": 3}  # three distinct drawings
     clear_scene()
     ob = make_object(keys)  # as after the redo panel's undo
-
-    pool = run.simplify_all
-    sent = []
-
-    def records_only(sketches, *args, records=None, **kwargs):
-        sent.append(records)
-        return pool(sketches, *args, records=records, **kwargs)
-
-    monkeypatch.setattr(run, "simplify_all", records_only)
     t0 = time.perf_counter()
     assert bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.01) == {"FINISHED"}
     replay_seconds = time.perf_counter() - t0
     assert run.REPLAY.runs == 0  # nothing run here
-    assert len(sent) == 1 and len(sent[0]) == 5 and all(r is not None for r in sent[0])
+    assert dict(pool.counts) == {"ran": 3, "replayed": 3}
     replayed = {f.frame_number: strokes_of(f.drawing)
                 for f in ob.data.layers["Lines simplified"].frames}
+    run.stop_kept_pool()  # (idle too long): the records kept here rebuild them
+    clear_scene()
+    ob = make_object(keys)
+    assert bpy.ops.sketchsimp.simplify(scope="ALL", epsilon=0.005) == {"FINISHED"}
+    assert dict(run.kept_pool(run.default_jobs()).counts) == {"rebuilt": 3}
     monkeypatch.setattr(run, "REPLAY", ReplayCache())
     clear_scene()
     ob = make_object(keys)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -206,6 +207,60 @@ def test_a_started_pool_serves_every_call_with_the_same_workers_and_the_same_res
                     [s.bezier.tolist() for s in alone.strokes]
     with pytest.raises(SketchError, match="jobs"), local_pool(0):
         pass
+
+
+def _beziers(strokes) -> list:
+    return [s.bezier.tolist() for s in strokes]
+
+
+def test_a_kept_pool_replays_each_sketch_in_the_worker_that_holds_it():
+    """KeptPool: a first call runs each distinct sketch's merge loop on to ``cover`` in
+    whichever worker is free; every later epsilon goes back to that worker and is a
+    replay there; each output is, to the bit, what a fresh run at that epsilon gives."""
+    from core.parallel import KeptPool
+
+    sketches = [read_sketch(SAMPLES / f"{name}.scap") for name in ("cup", "house", "fish")]
+    with KeptPool(2) as pool:
+        for k, eps in enumerate((0.015, 0.01, 0.03, 0.015)):
+            outs = pool.simplify(sketches + sketches[:1], SimplifyParams(epsilon=eps),
+                                 cover=0.06 if k == 0 else None)
+            assert outs[3] is outs[0]  # identical sketches: simplified once
+            for out, sketch in zip(outs, sketches):
+                assert _beziers(out.strokes) == _beziers(
+                    simplify(sketch, SimplifyParams(epsilon=eps)).strokes)
+        assert dict(pool.counts) == {"ran": 3, "replayed": 9}
+    assert not pool.alive
+    with pytest.raises(SketchError, match="closed"):
+        pool.simplify(sketches, SimplifyParams())
+
+
+def test_a_kept_worker_that_dropped_a_result_or_died_rebuilds_it_from_the_callers_record():
+    """Past its points bound a worker drops results (the least recently used), and a
+    worker killed is started again: either way the sketch is rebuilt from the merge
+    record the caller sends, never run again, and gives what a fresh run gives."""
+    import os
+    import signal
+
+    from core.parallel import KeptPool
+
+    sketches = [read_sketch(SAMPLES / f"{name}.scap") for name in ("cup", "house", "fish")]
+    with KeptPool(1, points=1) as pool:  # one result kept at a time
+        first = pool.simplify(sketches, SimplifyParams(epsilon=0.02), cover=0.06)
+        records = [out.record for out in first]
+        assert all(r is not None and r.covers == 0.06 for r in records)
+        outs = pool.simplify(sketches, SimplifyParams(epsilon=0.01), records=records)
+        assert pool.counts["ran"] == 3 and pool.counts["rebuilt"] >= 2
+        for out, sketch in zip(outs, sketches):
+            assert _beziers(out.strokes) == _beziers(
+                simplify(sketch, SimplifyParams(epsilon=0.01)).strokes)
+        for pid in list(pool._workers[0]._processes):
+            os.kill(pid, signal.SIGKILL)
+        time.sleep(1.0)  # the pool has seen it die
+        before = pool.counts["rebuilt"]
+        outs = pool.simplify(sketches[:1], SimplifyParams(epsilon=0.03), records=records)
+        assert pool.counts["rebuilt"] == before + 1 and pool.counts["ran"] == 3
+        assert _beziers(outs[0].strokes) == _beziers(
+            simplify(sketches[0], SimplifyParams(epsilon=0.03)).strokes)
 
 
 def test_raising_epsilon_never_increases_the_primitives():
