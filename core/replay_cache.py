@@ -21,7 +21,8 @@ from .params import EPSILON_SOFT_MAX, SimplifyParams
 from .simplify import SimplifyResult, from_record, simplify
 from .sketch import Sketch, Stroke
 
-__all__ = ["COVERED_EPSILON", "OUTPUT_POINTS", "ReplayCache", "sketch_digest"]
+__all__ = ["COVERED_EPSILON", "OUTPUT_POINTS", "ReplayCache", "sketch_digest",
+           "strokes_digest"]
 
 #: the epsilon a run asked for above what is kept covers: the whole slider, so that only
 #: the first step up runs again (with 0.03, every step above it ran from scratch: 30 s on
@@ -44,6 +45,21 @@ def sketch_digest(sketch: Sketch) -> str:
         for extra in (s.width, s.pressure):
             h.update(b"-" if extra is None else np.ascontiguousarray(extra).tobytes())
         h.update(f"|{s.style}|{s.source_id}|{len(s.points)};".encode())
+    return h.hexdigest()
+
+
+def strokes_digest(strokes: list[Stroke]) -> str:
+    """A fingerprint of output strokes: their points, Beziers and whether they close.
+
+    >>> a = Stroke([[0, 0], [1, 0]])
+    >>> strokes_digest([a]) == strokes_digest([Stroke([[0, 0], [1, 0]])]) != strokes_digest([])
+    True
+    """
+    h = hashlib.blake2b(digest_size=16)
+    for s in strokes:
+        h.update(np.ascontiguousarray(s.points).tobytes())
+        h.update(b"-" if s.bezier is None else np.ascontiguousarray(s.bezier).tobytes())
+        h.update(f"|{s.closed}|{len(s.points)};".encode())
     return h.hexdigest()
 
 

@@ -23,7 +23,9 @@ from ..core import (
     simplify,
     simplify_all,
 )
+from ..core.curves.memo import LruStore
 from ..core.parallel import KeptPool, KeptRun
+from ..core.replay_cache import sketch_digest, strokes_digest
 from .convert import (
     drawing_from_polylines,
     drawing_plane,
@@ -39,7 +41,8 @@ from .records import DrawingResult, Prepared, RunReport
 from .write import fill_materials
 
 __all__ = [
-    "held_across_frames", "KEPT_IDLE", "kept_pool", "POOL_FROM", "REPLAY", "results_of",
+    "HELD", "HELD_ENTRIES", "held_across_frames", "KEPT_IDLE", "kept_pool", "POOL_FROM",
+    "REPLAY", "results_of",
     "simplified_here", "simplify_curve_object", "simplify_object", "StepwiseRun",
     "stop_kept_pool", "stop_kept_pool_if_idle",
 ]
@@ -320,11 +323,21 @@ def simplify_object(obj, options, params: SimplifyParams, frame_number: int,
     return run.report, results
 
 
+#: held keyframes kept (:func:`held_across_frames`): a 13-keyframe shot shown at about 20
+#: epsilons; each entry the strokes of one output, most of them shared with the outputs
+#: :data:`REPLAY` keeps
+HELD_ENTRIES = 256
+#: Stable Across Frames' strokes, by what they were held from: the previous keyframe's
+#: held strokes on this one's plane, this keyframe's output and its ink. A redo-panel step
+#: holds again only the keyframes where one of these changed
+HELD: LruStore[tuple, list] = LruStore(HELD_ENTRIES)
+
+
 def held_across_frames(prepared: list[Prepared], outputs: list) -> list:
     """Each layer's results, keyframe by keyframe, held to the keyframe's before it
     (:func:`core.held_to`): the previous lines brought onto this drawing's plane, kept
     where this drawing's ink still runs along them within the bundle width, carried along
-    where it moved."""
+    where it moved. What was held from the same strokes before is looked up (:data:`HELD`)."""
     out = list(outputs)
     previous: dict[int, tuple] = {}  # layer -> (its last strokes, their plane)
     order = sorted(range(len(prepared)), key=lambda k: (prepared[k].layer.as_pointer(),
@@ -336,8 +349,14 @@ def held_across_frames(prepared: list[Prepared], outputs: list) -> list:
         before = previous.get(layer.as_pointer())
         if before is not None:
             strokes, was = before
-            out[k] = replace(out[k], strokes=held_to(
-                [stroke_moved(s, was, plane) for s in strokes], out[k].strokes, out[k].width,
-                prepared[k].sketch.strokes))
+            moved = [stroke_moved(s, was, plane) for s in strokes]
+            key = (strokes_digest(moved), strokes_digest(out[k].strokes), out[k].width,
+                   sketch_digest(prepared[k].sketch))
+            held = HELD.get(key)
+            if held is None:
+                held = held_to(moved, out[k].strokes, out[k].width,
+                               prepared[k].sketch.strokes)
+                HELD.put(key, held)
+            out[k] = replace(out[k], strokes=held)
         previous[layer.as_pointer()] = (out[k].strokes, plane)
     return out

@@ -564,6 +564,48 @@ def test_jittered_keyframes_keep_their_lines_when_stable(stable):
         assert max(counts) - min(counts) > 2 or max(moved) >= 0.003
 
 
+def test_a_redo_step_holds_again_only_the_keyframes_whose_lines_changed(monkeypatch):
+    """Stable Across Frames on a shot, pressed at 0.02, then 0.01 (the redo panel), then
+    0.02 again: the step back holds nothing again (every keyframe's lines are those held
+    before) and writes what the first press wrote; held afresh, with nothing kept, the
+    step to 0.01 gives what it gave."""
+    from sketchsimp.core import ReplayCache
+    from sketchsimp.core.curves.memo import LruStore
+    from sketchsimp.sketchsimp_addon import run
+
+    rng = np.random.default_rng(1)
+    house = sample_points("house")
+    jittered = [[s + rng.normal(0, 0.5 * SCALE, s.shape).astype(np.float32) for s in house]
+                for _ in range(5)]
+
+    def pressed(epsilon: float) -> list:
+        clear_scene()
+        ob = make_object({k: None for k in (1, 2, 3, 4, 5)})
+        for frame, strokes in zip(ob.data.layers["Lines"].frames, jittered):
+            fill_drawing(frame.drawing, strokes)
+        assert bpy.ops.sketchsimp.simplify(scope="ALL", stable=True,
+                                           epsilon=epsilon) == {"FINISHED"}
+        return [strokes_of(f.drawing) for f in ob.data.layers["Lines simplified"].frames]
+
+    calls = []
+    held_to = run.held_to
+    monkeypatch.setattr(run, "held_to", lambda *a: calls.append(1) or held_to(*a))
+    monkeypatch.setattr(run, "HELD", LruStore(run.HELD_ENTRIES))
+    first = pressed(0.02)
+    assert len(calls) == 4  # each keyframe but the first, held to the one before
+    step = pressed(0.01)
+    calls.clear()
+    back = pressed(0.02)
+    assert calls == []
+    assert all(len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b))
+               for a, b in zip(back, first))
+    monkeypatch.setattr(run, "HELD", LruStore(run.HELD_ENTRIES))
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())
+    afresh = pressed(0.01)
+    assert all(len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b))
+               for a, b in zip(afresh, step))
+
+
 def test_a_drawing_moved_from_key_to_key_is_followed_when_stable():
     """The house moved 0.3% of its diagonal a keyframe along X over five keyframes: held
     to each other, the outputs keep their strokes and lie on each keyframe's own ink (the
