@@ -208,6 +208,10 @@ def simplify_all(sketches: list[Sketch], params: SimplifyParams, jobs: int = 1,
 #: about 400 MB at most; a 13-keyframe shot of product sketches is about 100,000 points
 KEPT_POINTS = 400_000
 
+#: merge records a kept worker holds (those sent to rebuild what it dropped): the add-on
+#: keeps 512 of them; a worker needs one only until its result is rebuilt
+KEPT_RECORDS = 64
+
 #: a kept worker's cache of results, made on its first call (None in every other process)
 _kept: ReplayCache | None = None
 
@@ -225,7 +229,7 @@ def _kept_one(args: tuple[Sketch, SimplifyParams, bool, float | None, Recorded |
     global _kept
     sketch, params, regions, cover, recorded, has_record, points = args
     if _kept is None or _kept.points != points:
-        _kept = ReplayCache(size=1 << 30, records=1 << 30, points=points)
+        _kept = ReplayCache(size=1 << 30, records=KEPT_RECORDS, points=points)
     if recorded is not None:
         _kept.remember(sketch, params, recorded)
     elif has_record and not _kept.has_result(sketch, params):

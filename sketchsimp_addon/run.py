@@ -42,9 +42,8 @@ from .write import fill_materials
 
 __all__ = [
     "HELD", "HELD_ENTRIES", "held_across_frames", "KEPT_IDLE", "kept_pool", "POOL_FROM",
-    "REPLAY", "results_of",
-    "simplified_here", "simplify_curve_object", "simplify_object", "StepwiseRun",
-    "stop_kept_pool", "stop_kept_pool_if_idle",
+    "REPLAY", "results_of", "simplified_here", "simplify_curve_object", "simplify_object",
+    "StepwiseRun", "stop_kept_pool", "stop_kept_pool_if_idle",
 ]
 
 
@@ -226,7 +225,8 @@ class StepwiseRun:
             jobs = default_jobs() if pool is not None or len(prepared) >= POOL_FROM else 1
         pooled = [k for k in todo if not REPLAY.has_result(prepared[k].sketch, params)] \
             if jobs > 1 else []
-        self._here = deque(k for k in todo if k not in set(pooled))
+        in_pool = set(pooled)
+        self._here = deque(k for k in todo if k not in in_pool)
         self._kept: tuple[KeptRun, list[int]] | None = None
         if not pooled:
             return
