@@ -129,10 +129,11 @@ def default_jobs() -> int:
                else (os.cpu_count() or 1))
 
 
-def unique_sketches(sketches: list[Sketch]) -> tuple[list[int], list[int]]:
-    """Identical sketches, found by content (:func:`core.replay_cache.sketch_digest`): the
-    index of the first of each distinct sketch, and for every sketch the position of its
-    own in that list.
+def unique_sketches(sketches: list[Sketch], digests: list[str] | None = None
+                    ) -> tuple[list[int], list[int]]:
+    """Identical sketches, found by content (:func:`core.replay_cache.sketch_digest`, or
+    ``digests`` where the caller has them): the index of the first of each distinct
+    sketch, and for every sketch the position of its own in that list.
 
     >>> from core import Sketch, Stroke
     >>> a, b = Sketch([Stroke([[0, 0], [1, 0]])]), Sketch([Stroke([[0, 0], [0, 1]])])
@@ -142,7 +143,7 @@ def unique_sketches(sketches: list[Sketch]) -> tuple[list[int], list[int]]:
     first: dict[str, int] = {}  # digest -> position among the distinct
     where, firsts = [], []
     for k, sketch in enumerate(sketches):
-        digest = sketch_digest(sketch)
+        digest = sketch_digest(sketch) if digests is None else digests[k]
         if digest not in first:
             first[digest] = len(firsts)
             firsts.append(k)
@@ -346,8 +347,12 @@ class KeptRun:
                  regions: bool, cover: float | None, records: list[Recorded | None] | None
                  ) -> None:
         self._pool, self._sketches = pool, sketches
-        self._firsts, self._where = unique_sketches(sketches)
-        self._digests = [sketch_digest(sketches[k]) for k in self._firsts]
+        digests = [sketch_digest(sketch) for sketch in sketches]
+        self._firsts, where = unique_sketches(sketches, digests)
+        self._digests = [digests[k] for k in self._firsts]
+        self._copies: list[list[int]] = [[] for _ in self._firsts]  # by distinct sketch
+        for k, u in enumerate(where):
+            self._copies[u].append(k)
         self._records = [records[k] if records else None for k in self._firsts]
         self._call = (params, regions, cover, max(1, pool.points // pool.jobs))
         sizes = [sum(len(s.points) for s in sketches[k].strokes) for k in self._firsts]
@@ -401,9 +406,8 @@ class KeptRun:
                 self._send(w, u, with_record=True)
                 continue
             self._done[u] = out
-            for k, v in enumerate(self._where):
-                if v == u:
-                    self.outputs[k] = out
+            for k in self._copies[u]:
+                self.outputs[k] = out
             now.append(self._firsts[u])
             self._feed(w)
         return now
