@@ -90,6 +90,42 @@ def test_a_bundles_line_does_not_keep_the_wiggle_of_its_longest_pass():
     assert np.ptp(middle[:, 1]) < 0.5  # the wiggle is 4 px from crest to trough
 
 
+def turning(points: np.ndarray) -> float:
+    """Total absolute turning (radians) along a polyline."""
+    d = np.diff(points, axis=0)
+    return float(np.abs(np.diff(np.unwrap(np.arctan2(d[:, 1], d[:, 0])))).sum())
+
+
+@pytest.mark.xfail(strict=True, reason="issue 51: the centreline's smoothing is fixed "
+                   "(half a bundle width): the median steps where a pass begins or ends, and "
+                   "the line keeps the steps (docs/decisions.md: 'the centreline as smooth as "
+                   "its bundle allows')")
+@pytest.mark.parametrize("seed", [0, 2])
+def test_a_straight_edge_drawn_as_twelve_short_staggered_passes_does_not_step_where_they_end(
+        seed):
+    """Twelve short passes along one edge, each 0.4% of the diagonal off it at most: the
+    median steps where a pass begins or ends; a line as smooth as the passes' spread
+    allows is straight (with a fixed sigma it turns 2.8 radians)."""
+    rng = np.random.default_rng(seed)
+    strokes = []
+    for _ in range(12):
+        x = np.linspace(a := rng.uniform(50, 330), a + 120, 60)
+        strokes.append(np.stack([x, 250 + rng.uniform(-0.004, 0.004) * D + 0 * x], axis=1))
+    out = lines_of(strokes)
+    assert len(out) == 1
+    assert turning(out[0].points) < 0.5
+
+
+def test_a_ring_drawn_as_three_loose_passes_keeps_its_size():
+    """The ring's line lies in the middle of its passes: no smoothing shrinks it (a
+    wider Gaussian alone would, where twicing does not)."""
+    passes = [ring((250, 250), 100 + k * 0.004 * D, turn=k, seed=k) for k in range(3)]
+    out = lines_of(passes)
+    assert len(out) == 1 and out[0].closed
+    radius = np.hypot(*(out[0].points - 250).T)
+    assert np.median(radius) == pytest.approx(100 + 0.004 * D, abs=0.002 * D)
+
+
 def s_curve(offset: float, seed: int) -> np.ndarray:
     """A cursive S: two bowls, drawn top to bottom."""
     rng = np.random.default_rng(seed)
