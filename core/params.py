@@ -147,10 +147,10 @@ class Tuning:
     smooth: float = 0.5
     #: a band free of ink parts two lines where wider than fill_gap, or than this times the
     #: wider ink beside it (passes 4-6). decisions: "groups split where a band free of ink
-    #: runs all along them"
+    #: runs all along them"; "two bundles, not a band all along"
     band_ratio: float = 1.0
     #: ... and at least this many d_eps. decisions: "groups split where a band free of ink
-    #: runs all along them"
+    #: runs all along them"; "two bundles, not a band all along"
     band_floor: float = 0.5
     #: a piece with this many samples beside the line or more is judged by the band test
     #: (pass 4). decisions: "Where each tuned number comes from"

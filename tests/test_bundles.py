@@ -176,3 +176,19 @@ def resample(p: np.ndarray, step: float) -> np.ndarray:
     s = np.r_[0, np.cumsum(d)]
     t = np.linspace(0, s[-1], max(2, int(s[-1] / step) + 1))
     return np.stack([np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])], axis=1)
+
+
+def test_two_tight_bundles_stay_two_where_a_stray_pass_end_crosses_the_band_between_them():
+    """The band between two lines is judged along most of their shared stretch: one pass's
+    end flicking across it (or the two lines meeting at a junction) does not make them
+    one line; passes of one line that wander across each other along the way are one."""
+    from core.lines.fit import band_split
+
+    x = np.linspace(0, 1, 41)[:, None]
+    bundles = [np.hstack([x, 0 * x + y + 0.0005 * k]) for y in (0.0, 0.02) for k in range(3)]
+    bundles[0] = bundles[0].copy()
+    bundles[0][-3:, 1] = 0.025  # its end flicks across, beyond the other bundle
+    clear = lambda band, spread: band > 0.01  # noqa: E731 - the test's own threshold
+    assert band_split(bundles, 0.05, 0.1, clear) == ([0, 1, 2], [3, 4, 5])
+    wander = [np.hstack([x, 0.012 * np.sin(2 * np.pi * (x + k / 3))]) for k in range(3)]
+    assert band_split(wander, 0.05, 0.1, clear) is None

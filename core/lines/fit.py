@@ -17,21 +17,22 @@ wander at every scale the smoothing takes out of the offsets. A group of one pie
 that piece, resampled: there is no other ink to move it to (pass 10 smooths it as it
 smooths every line).
 
-The checks. First, a group whose passes leave a band free of ink all along them that
-:func:`clear_band` says parts two lines (wider than the drawing's usual spacing of passes,
-or than the inks beside it: two tight bundles, or single strokes, drawn close) is split
-there (:func:`band_split`), each side fitted on its own: the width is local, from the
-group's own ink. Then, a piece of which less than ``tuning.member_share`` lies within
-``member_reach`` d_eps of its group's line does not draw that line, and is split off; so
-is a piece the line leaves: it runs along the line and then, from the line's middle (at
-least ``tuning.crumb`` d_eps from either end), away from it for good, farther than
-``member_reach`` along at least ``crumb``. The line turned off onto other ink there (the
-spine grew along a pass that turns off an edge, and the edge's passes go straight on);
-the piece draws another line, which comes out whole fitted on its own, whereas as a member
-only its stretch beyond the turn would (pass 8's). The pieces split off are grouped again
-among themselves (the components of pass 3's pairs among them) and fitted the same way. A
-long chain of pairs (a line passing along a ring for a while) joins pieces of several
-lines into one group; the fit takes them apart.
+The checks. First, a group whose passes fall into two bundles along the stretch they
+share, one side's ink never crossing to the other's, with a band free of ink between them
+that :func:`clear_band` says parts two lines along most of it (wider than the
+drawing's usual spacing of passes, or than the inks beside it: two tight bundles, or
+single strokes, drawn close), is split there (:func:`band_split`), each side fitted on its
+own: the width is local, from the group's own ink. Then, a piece of which less than
+``tuning.member_share`` lies within ``member_reach`` d_eps of its group's line does not
+draw that line, and is split off; so is a piece the line leaves: it runs along the line
+and then, from the line's middle (at least ``tuning.crumb`` d_eps from either end), away
+from it for good, farther than ``member_reach`` along at least ``crumb``. The line turned
+off onto other ink there (the spine grew along a pass that turns off an edge, and the
+edge's passes go straight on); the piece draws another line, which comes out whole fitted
+on its own, whereas as a member only its stretch beyond the turn would (pass 8's). The
+pieces split off are grouped again among themselves (the components of pass 3's pairs
+among them) and fitted the same way. A long chain of pairs (a line passing along a ring
+for a while) joins pieces of several lines into one group; the fit takes them apart.
 
 The helpers of passes 5 and 6 live here too (:func:`along_pairs`, :func:`regroup`,
 :func:`absorb_lines`): they fit groups again.
@@ -293,19 +294,24 @@ def clear_band(band: np.ndarray | float, spread: np.ndarray | float, work: Work
 def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
                share: float = 0.0, samples: int = Tuning.band_samples
                ) -> tuple[list[int], list[int]] | None:
-    """The pieces (indices) either side of a band free of ink that runs all along the
-    passes beside the longest piece, where ``clear(band, spread)`` says it parts two
-    lines; None where no band does (one line, however loosely drawn).
+    """The pieces (indices) either side of a band free of ink that parts the passes
+    beside the longest piece into two lines, where ``clear(band, spread)`` says it does;
+    None where no band does (one line, however loosely drawn).
 
     The pieces beside the longest (within ``reach``, ``samples`` or more) are ordered
     across it by their median offset from it; each place in that order is judged in
     stretches ``step`` long along it where ink lies on both sides: the band is the space
-    between the two sides' ink there, ``spread`` the wider side's width there. The band
-    must be clear in every such stretch, two or more of them, over at least ``share`` of
-    the length of the shorter side's longest piece: two lines drawn close keep their band
-    all along; loose passes of one line meet or cross somewhere, or overlap only at their
-    ends (drawn on). Of the places that part, the widest band's. A piece not beside the
-    longest goes with the longest's side.
+    between the two sides' ink there, ``spread`` the wider side's width there. Two lines
+    are two bundles along their shared stretch: one side's ink stays on its side (its
+    median offset beyond the other's in every stretch: loose passes of one line wander
+    across each other), and the band is clear along most of it (``clear`` of the band's
+    lower quartile over the stretches and of the median spread): a stray point, or two
+    lines meeting at a junction, does not close it; passes that touch along a quarter of
+    their way do. The sides must lie beside each other over at least ``share`` of the
+    length of the shorter side's longest piece, two stretches or more (passes drawn on
+    from one another overlap only at their ends). Of the places that part, the widest
+    band's (its lower quartile). A piece not beside the longest goes with the longest's
+    side.
 
     >>> x = np.linspace(0, 1, 41)[:, None]
     >>> two = [np.hstack([x, 0 * x + y]) for y in (0.0, 0.001, 0.02, 0.021)]
@@ -313,9 +319,12 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
     ([0, 1], [2, 3])
     >>> band_split(two, 0.05, 0.1, lambda band, spread: band > 0.03) is None
     True
-    >>> crossing = [two[0], np.hstack([x, 0.02 * x])]  # they meet at one end
+    >>> crossing = [two[0], np.hstack([x, 0.03 * x - 0.015])]  # it crosses the first
     >>> band_split(crossing, 0.05, 0.1, lambda band, spread: band > 0.005) is None
     True
+    >>> meeting = [two[0], np.hstack([x, 0.02 * x])]  # a narrow V: two lines meeting
+    >>> band_split(meeting, 0.05, 0.1, lambda band, spread: band > 0.004)
+    ([0], [1])
     """
     root = max(range(len(pieces)), key=lambda k: (len(pieces[k]), -k))
     line = pieces[root]
@@ -343,16 +352,18 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
             lo, hi = np.full(n, np.inf), np.full(n, -np.inf)
             np.minimum.at(lo, stretch[side], offset[side])
             np.maximum.at(hi, stretch[side], offset[side])
-            ends.append((lo, hi))
-        (lo0, hi0), (lo1, hi1) = ends
+            ends.append((lo, hi, _bin_medians(stretch[side], offset[side], n)[1]))
+        (lo0, hi0, middle0), (lo1, hi1, middle1) = ends
         both = np.isfinite(hi0) & np.isfinite(lo1)
         shorter = min(longest[rank[judged] <= cut].max(), longest[rank[judged] > cut].max())
         if both.sum() < max(2, share * shorter / step):  # drawn on, not beside each other
             continue
-        band = (lo1 - hi0)[both]
-        spread = np.maximum(hi0 - lo0, hi1 - lo1)[both]
-        if np.all(clear(band, spread)) and (best is None or band.min() > best[0]):
-            best = (float(band.min()), cut)
+        if not np.all(middle1[both] > middle0[both]):  # they cross: one loose line
+            continue
+        band = float(np.percentile((lo1 - hi0)[both], 25))
+        spread = float(np.median(np.maximum(hi0 - lo0, hi1 - lo1)[both]))
+        if clear(band, spread) and (best is None or band > best[0]):
+            best = (band, cut)
     if best is None:
         return None
     low = set(judged[rank[judged] <= best[1]].tolist())
