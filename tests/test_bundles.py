@@ -11,6 +11,7 @@ import shapely
 from metrics import turning
 
 from core import SimplifyParams, Sketch, Stroke, simplify
+from core.lines.fit import band_split
 
 CANVAS = 500.0
 D = float(np.hypot(CANVAS, CANVAS))  # the canvas's diagonal; drawings fill most of it
@@ -182,8 +183,6 @@ def test_two_tight_bundles_stay_two_where_a_stray_pass_end_crosses_the_band_betw
     """The band between two lines is judged along most of their shared stretch: one pass's
     end flicking across it (or the two lines meeting at a junction) does not make them
     one line; passes of one line that wander across each other along the way are one."""
-    from core.lines.fit import band_split
-
     x = np.linspace(0, 1, 41)[:, None]
     bundles = [np.hstack([x, 0 * x + y + 0.0005 * k]) for y in (0.0, 0.02) for k in range(3)]
     bundles[0] = bundles[0].copy()

@@ -158,12 +158,17 @@ def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
     return spine, closed
 
 
-def _bin_medians(bins: np.ndarray, values: np.ndarray, n: int
-                 ) -> tuple[np.ndarray, np.ndarray]:
-    """Which of ``n`` bins hold values, and the median of each (0 where none).
+def _bin_stats(bins: np.ndarray, values: np.ndarray, n: int
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Which of ``n`` bins hold values, and the lowest, the median and the highest of each
+    (inf, 0 and -inf where none), from one sort.
 
-    >>> _bin_medians(np.array([0, 0, 0, 2]), np.array([1.0, 9.0, 2.0, 4.0]), 3)
-    (array([ True, False,  True]), array([2., 0., 4.]))
+    >>> has, low, middle, high = _bin_stats(np.array([0, 0, 0, 2]),
+    ...                                     np.array([1.0, 9.0, 2.0, 4.0]), 3)
+    >>> has
+    array([ True, False,  True])
+    >>> low, middle, high
+    (array([ 1., inf,  4.]), array([2., 0., 4.]), array([  9., -inf,   4.]))
     """
     order = np.lexsort((values, bins))
     bins, values = bins[order], values[order]
@@ -175,7 +180,9 @@ def _bin_medians(bins: np.ndarray, values: np.ndarray, n: int
     high = first + count // 2
     middle = np.zeros(n)
     middle[has] = 0.5 * (values[low[has]] + values[high[has]])
-    return has, middle
+    lowest, highest = np.full(n, np.inf), np.full(n, -np.inf)
+    lowest[has], highest[has] = values[first[has]], values[last[has] - 1]
+    return has, lowest, middle, highest
 
 
 def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: float,
@@ -210,7 +217,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
         t, length, use = along.at, along.length, along.distance <= reach
         b = np.clip(np.rint(t / max(length, 1e-300) * (n - 1)).astype(np.intp), 0, n - 1)
         offset = ((ink - line[b]) * normal[b]).sum(axis=1)
-        has, middle = _bin_medians(b[use], offset[use], n)
+        has, _, middle, _ = _bin_stats(b[use], offset[use], n)
         if not has.any():
             break
         k = np.arange(n)
@@ -280,15 +287,14 @@ def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
     return beside, t, ((points - line[b]) * normal[b]).sum(axis=1)
 
 
-def clear_band(band: np.ndarray | float, spread: np.ndarray | float, work: Work
-               ) -> np.ndarray | bool:
+def clear_band(band: float, spread: float, work: Work) -> bool:
     """Whether a band free of ink ``band`` wide between two inks, the wider of which spreads
     ``spread`` across, parts two lines: wider than the drawing's usual spacing of passes
     (``params.fill_gap``), or than ``tuning.band_ratio`` times the inks beside it, and at
     least ``tuning.band_floor`` d_eps."""
     t = work.tuning
-    local = np.maximum(t.band_floor * work.d, t.band_ratio * np.asarray(spread))
-    return np.asarray(band) > np.minimum(work.params.fill_gap, local)
+    local = max(t.band_floor * work.d, t.band_ratio * spread)
+    return bool(band > min(work.params.fill_gap, local))
 
 
 def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
@@ -347,13 +353,8 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
     best = None
     for cut in range(len(judged) - 1):
         low_side = rank[which] <= cut
-        ends = []
-        for side in (low_side, ~low_side):
-            lo, hi = np.full(n, np.inf), np.full(n, -np.inf)
-            np.minimum.at(lo, stretch[side], offset[side])
-            np.maximum.at(hi, stretch[side], offset[side])
-            ends.append((lo, hi, _bin_medians(stretch[side], offset[side], n)[1]))
-        (lo0, hi0, middle0), (lo1, hi1, middle1) = ends
+        (lo0, middle0, hi0), (lo1, middle1, hi1) = (
+            _bin_stats(stretch[side], offset[side], n)[1:] for side in (low_side, ~low_side))
         both = np.isfinite(hi0) & np.isfinite(lo1)
         shorter = min(longest[rank[judged] <= cut].max(), longest[rank[judged] > cut].max())
         if both.sum() < max(2, share * shorter / step):  # drawn on, not beside each other
