@@ -135,8 +135,11 @@ class Tuning:
     #: a piece parting from the spine within this many member_reach of its end extends it.
     #: decisions: "Where each tuned number comes from"
     end_zone: float = 2.0
-    #: a spine closes into a loop only when longer than this many member_reach. decisions:
-    #: "Where each tuned number comes from"
+    #: a piece coming back round closes a spine into a loop only when it is longer than this
+    #: many member_reach; a spine whose own ends meet, where they lie within member_reach
+    #: and within 1/loop_length of its length of each other (a small ring drawn whole
+    #: closes; a U does not). decisions: "Where each tuned number comes from"; "a band in
+    #: open paper"
     loop_length: float = 4.0
     #: the centreline's bins along its spine (d_eps). decisions: "ink no line stands for
     #: becomes a line"
@@ -152,6 +155,10 @@ class Tuning:
     #: ... and at least this many d_eps. decisions: "groups split where a band free of ink
     #: runs all along them"; "two bundles, not a band all along"
     band_floor: float = 0.5
+    #: ... and it parts two bundles of two passes or more each where wider than this times
+    #: the wider one's spread, whatever lies around them; else only where other ink lies
+    #: near (apart, apart_share) (passes 4-6). decisions: "a band in open paper"
+    tight_ratio: float = 2.0
     #: a piece with this many samples beside the line or more is judged by the band test
     #: (pass 4). decisions: "Where each tuned number comes from"
     band_samples: int = 4
@@ -173,11 +180,14 @@ class Tuning:
     #: see join_reach: a line kept whole, as the scorer counts one. decisions: "the pen
     #: stage's join keeps each line whole"
     join_share: float = 0.8
-    #: ... or where no other line lies within this many times the farthest move ...
-    #: decisions: "a join or an absorb stands where the joint line keeps the lines in place"
+    #: ... or where no other line lies within this many times the farthest move; and a
+    #: band between two inks parts them only where other ink lies within this many times
+    #: its width (passes 4-6) ... decisions: "a join or an absorb stands where the joint
+    #: line keeps the lines in place"; "a band in open paper"
     apart: float = 3.0
-    #: ... along this share of the joint line: one loose line in open paper. decisions: "a
-    #: join or an absorb stands where the joint line keeps the lines in place"
+    #: ... along this share of the joint line (of the two inks): one loose line in open
+    #: paper. decisions: "a join or an absorb stands where the joint line keeps the lines
+    #: in place"; "a band in open paper"
     apart_share: float = 0.5
     #: a line shorter than this many d_eps is a crumb or hook, absorbed where within
     #: absorb_reach of a longer line (pass 6), and no line of its own (passes 4, 8).
@@ -256,10 +266,12 @@ class SimplifyParams:
     fill_gap      the widest band free of ink that may lie inside one bundle (a fraction
                   of D): two lines whose inks leave no band free of ink wider than this
                   between them may be one line drawn twice, and are joined where their
-                  joint fit keeps both (:mod:`core.lines.join`, :mod:`core.lines.absorb`).
+                  joint fit keeps both (:mod:`core.lines.join`, :mod:`core.lines.absorb`);
+                  so may two with no other ink near them, whatever the band (one loose
+                  line drawn in open paper: :func:`core.lines.fit.one_loose_line`).
                   "auto" (default): the ink's spacing (:func:`ink_spacing`), at most
-                  ``tuning.fill_gap_share`` of d_eps; 0: never. A result's params hold the
-                  number used
+                  ``tuning.fill_gap_share`` of d_eps; 0: never, whatever lies near. A
+                  result's params hold the number used
     target_patches, target_curves   optional: also stop once this few remain
     max_curves    refuse a sketch whose strokes cross into more curves than this (None: no
                   limit): the largest real sketches make about 17,000, and one of 100,000

@@ -22,9 +22,9 @@ from functools import cached_property
 import numpy as np
 
 __all__ = [
-    "arc_lengths", "end_to_end", "gaussian_kernel", "leading_count", "points_at", "Polylines",
-    "resample_each", "resample_polyline", "resample_polylines", "smoothed_ring", "split", "starts",
-    "total_lengths",
+    "arc_lengths", "end_to_end", "ends_meet", "gaussian_kernel", "leading_count", "points_at",
+    "Polylines", "resample_each", "resample_polyline", "resample_polylines", "smoothed_ring",
+    "split", "starts", "total_lengths",
 ]
 
 
@@ -138,6 +138,22 @@ def _running_sums(step: np.ndarray, first: np.ndarray, sizes: np.ndarray
     rows[which, col] = step[at]
     rows[:, 0] = 0.0
     return np.cumsum(rows, axis=1)[which, col], at
+
+
+def ends_meet(points: np.ndarray, reach: float, share: float) -> bool:
+    """Whether a polyline comes round to where it began: its ends lie within ``reach`` of
+    each other and within ``share`` of its length (a small ring drawn whole does; a U,
+    whose ends lie a third of its length apart, does not).
+
+    >>> t = np.linspace(0, 2 * np.pi, 40)
+    >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)
+    >>> ends_meet(ring, 0.5, 0.25), ends_meet(ring[:-8], 0.5, 0.25), ends_meet(ring[:24], 9, 0.25)
+    (True, False, False)
+    """
+    if len(points) < 3:
+        return False
+    gap = float(np.hypot(*(points[0] - points[-1])))
+    return gap <= reach and gap < share * float(arc_lengths(points)[-1])
 
 
 def total_lengths(polylines: list[np.ndarray]) -> np.ndarray:

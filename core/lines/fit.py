@@ -6,8 +6,9 @@ one curve): a *spine* is grown from the group's longest piece, each other piece 
 where it runs within ``member_reach`` d_eps of it, its parts beyond the spine's ends
 extending it where the piece heads the spine's way there (within ``tuning.cut_angle``; one
 that crosses the end at a corner is another line; a piece that leaves one end and comes
-back to the other closes it: a circle
-drawn as loose arcs). Then, twice, the spine is moved to the median of the ink's offsets
+back to the other closes it: a circle drawn as loose arcs; so does a spine whose own ends
+meet, within ``member_reach`` and a ``tuning.loop_length``-th of its length: a small ring
+drawn whole). Then, twice, the spine is moved to the median of the ink's offsets
 from it, taken in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the
 line off the others), and the line so moved is smoothed over ``tuning.smooth`` d_eps
 (:func:`core.curves.bezier.smooth_between_corners`): the line runs through the middle of
@@ -49,14 +50,14 @@ import shapely
 
 from ..arrays.components import component_labels
 from ..arrays.geometry import Segments, project_on, tangents
-from ..arrays.polylines import arc_lengths, resample_polyline
+from ..arrays.polylines import arc_lengths, ends_meet, resample_polyline
 from ..curves.bezier import smooth_between_corners
 from ..params import Tuning
 from .work import Line, Work
 
 __all__ = ["GroupFit", "absorb_lines", "along_pairs", "band_split", "centreline",
            "clear_band", "components", "fit_group", "fitted_centreline", "group_fit",
-           "regroup", "run", "true_runs"]
+           "lies_apart", "one_loose_line", "regroup", "run", "true_runs"]
 
 
 def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -152,9 +153,8 @@ def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
         if len(rest) == len(pending):
             break
         pending = rest
-    if (not closed and len(spine) > 2 and np.hypot(*(spine[0] - spine[-1])) <= reach
-            and np.hypot(*np.diff(spine, axis=0).T).sum() > loop_length):
-        closed = True
+    if not closed:
+        closed = ends_meet(spine, reach, reach / loop_length)
     return spine, closed
 
 
@@ -289,20 +289,62 @@ def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
 
 def clear_band(band: float, spread: float, work: Work) -> bool:
     """Whether a band free of ink ``band`` wide between two inks, the wider of which spreads
-    ``spread`` across, parts two lines: wider than the drawing's usual spacing of passes
-    (``params.fill_gap``), or than ``tuning.band_ratio`` times the inks beside it, and at
-    least ``tuning.band_floor`` d_eps."""
+    ``spread`` across, is wide enough to part two lines: wider than the drawing's usual
+    spacing of passes (``params.fill_gap``), or than ``tuning.band_ratio`` times the inks
+    beside it, and at least ``tuning.band_floor`` d_eps. Whether it does part them is
+    :func:`one_loose_line`'s to say too."""
     t = work.tuning
     local = max(t.band_floor * work.d, t.band_ratio * spread)
     return bool(band > min(work.params.fill_gap, local))
+
+
+def lies_apart(points: np.ndarray, own, reach: float, ink: Segments, share: float) -> bool:
+    """Whether ``points`` lie apart from every polyline of ``ink`` but those numbered in
+    ``own``: none lies within ``reach`` of at least ``share`` of the points.
+
+    >>> ink = Segments.of([np.array([[0.0, 0.0], [4.0, 0.0]]), np.array([[0.0, 1.0], [1.0, 1.0]])])
+    >>> pts = np.array([[0.0, 0.1], [1.0, 0.1], [2.0, 0.1], [3.0, 0.1]])
+    >>> lies_apart(pts, [0], 1.0, ink, 0.5)  # the other lies near a quarter of them
+    True
+    >>> lies_apart(pts, [0], 1.0, ink, 0.8)
+    False
+    """
+    most = (1 - share) * len(points)  # points with other ink near, at most
+    near = 0
+    for half in (points[0::2], points[1::2]):  # the second half only where the first leaves
+        i, seg = ink.tree.query(shapely.points(half), predicate="dwithin", distance=reach)
+        near += len(np.unique(i[~np.isin(ink.polyline[seg], own)]))  # it open
+        if near > most:
+            return False
+    return True
+
+
+def one_loose_line(band: float, spread: float, bundles: bool, points: np.ndarray, own,
+                   work: Work) -> bool:
+    """Whether two inks with a band ``band`` wide between them are one loose line however
+    wide the band (the passes of one line drawn in open paper, the issue's "nothing else
+    near"): they are not two bundles tighter than the band (``bundles``: each side two
+    passes or more, the band wider than ``tuning.tight_ratio`` times the wider side's
+    ``spread``), and they lie apart from all other ink (:func:`lies_apart`: no piece but
+    those in ``own`` within ``tuning.apart`` times the band of ``tuning.apart_share`` of
+    ``points``, their ink). The context StrokeAggregator judges a pair by: a band is a
+    space between two lines where other lines lie as close; alone, it is a loose hand.
+    Never where ``params.fill_gap`` is 0 (no band lies inside one bundle)."""
+    t = work.tuning
+    if work.params.fill_gap == 0 or (bundles and band > t.tight_ratio * spread):
+        return False  # fill_gap 0: no band lies inside one bundle
+    reach = t.apart * band  # asked every half reach along the ink (its points lie h apart)
+    return lies_apart(points[::max(1, int(reach / (2 * work.h)))], own, reach, work.ink,
+                      t.apart_share)
 
 
 def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
                share: float = 0.0, samples: int = Tuning.band_samples
                ) -> tuple[list[int], list[int]] | None:
     """The pieces (indices) either side of a band free of ink that parts the passes
-    beside the longest piece into two lines, where ``clear(band, spread)`` says it does;
-    None where no band does (one line, however loosely drawn).
+    beside the longest piece into two lines, where ``clear(band, spread, sides)`` says it
+    does (``sides``: the judged pieces on each side); None where no band does (one line,
+    however loosely drawn).
 
     The pieces beside the longest (within ``reach``, ``samples`` or more) are ordered
     across it by their median offset from it; each place in that order is judged in
@@ -321,15 +363,15 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
 
     >>> x = np.linspace(0, 1, 41)[:, None]
     >>> two = [np.hstack([x, 0 * x + y]) for y in (0.0, 0.001, 0.02, 0.021)]
-    >>> band_split(two, 0.05, 0.1, lambda band, spread: band > 0.01)
+    >>> band_split(two, 0.05, 0.1, lambda band, *_: band > 0.01)
     ([0, 1], [2, 3])
-    >>> band_split(two, 0.05, 0.1, lambda band, spread: band > 0.03) is None
+    >>> band_split(two, 0.05, 0.1, lambda band, *_: band > 0.03) is None
     True
     >>> crossing = [two[0], np.hstack([x, 0.03 * x - 0.015])]  # it crosses the first
-    >>> band_split(crossing, 0.05, 0.1, lambda band, spread: band > 0.005) is None
+    >>> band_split(crossing, 0.05, 0.1, lambda band, *_: band > 0.005) is None
     True
     >>> meeting = [two[0], np.hstack([x, 0.02 * x])]  # a narrow V: two lines meeting
-    >>> band_split(meeting, 0.05, 0.1, lambda band, spread: band > 0.004)
+    >>> band_split(meeting, 0.05, 0.1, lambda band, *_: band > 0.004)
     ([0], [1])
     """
     root = max(range(len(pieces)), key=lambda k: (len(pieces[k]), -k))
@@ -363,7 +405,8 @@ def band_split(pieces: list[np.ndarray], reach: float, step: float, clear,
             continue
         band = float(np.percentile((lo1 - hi0)[both], 25))
         spread = float(np.median(np.maximum(hi0 - lo0, hi1 - lo1)[both]))
-        if clear(band, spread) and (best is None or band > best[0]):
+        if (best is None or band > best[0]) and clear(
+                band, spread, (judged[rank[judged] <= cut], judged[rank[judged] > cut])):
             best = (band, cut)
     if best is None:
         return None
@@ -404,9 +447,13 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
-    sides = (band_split(pieces, reach, work.d,
-                        lambda band, spread: clear_band(band, spread, work), t.along_share,
-                        t.band_samples)
+
+    def parts(band: float, spread: float, sides: tuple[np.ndarray, np.ndarray]) -> bool:
+        bundles = min(len(sides[0]), len(sides[1])) >= 2
+        return clear_band(band, spread, work) and not one_loose_line(
+            band, spread, bundles, np.concatenate(pieces), members, work)
+
+    sides = (band_split(pieces, reach, work.d, parts, t.along_share, t.band_samples)
              if len(members) > 1 else None)
     if sides is not None:
         got = GroupFit(sides, None, False, None)
@@ -603,11 +650,8 @@ def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: lis
     move = max(float(np.quantile(segs.distance(ln.points), t.join_share)) for ln in before)
     if move <= t.join_reach * work.d:
         return True
-    points = np.concatenate([ln.points for ln in joint])
-    i, seg = every.tree.query(shapely.points(points), predicate="dwithin",
-                              distance=t.apart * move)
-    other = ~np.isin(every.polyline[seg], own)
-    return len(np.unique(i[other])) <= (1 - t.apart_share) * len(points)
+    return lies_apart(np.concatenate([ln.points for ln in joint]), own, t.apart * move, every,
+                      t.apart_share)
 
 
 def run(work: Work) -> Work:

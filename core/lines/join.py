@@ -34,10 +34,11 @@ from typing import NamedTuple
 import numpy as np
 import shapely
 
+from ..arrays.components import component_labels
 from ..arrays.geometry import project_on
 from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
 from ..merge.fourier import curve_descriptors, fd_distance
-from .fit import along_pairs, regroup
+from .fit import along_pairs, one_loose_line, regroup
 from .work import Line, Work
 
 __all__ = ["Judged", "half_width", "joined_pairs", "one_band", "run"]
@@ -134,22 +135,32 @@ def half_width(line: Line, work: Work, known) -> float:
 def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
              known: dict[tuple[int, ...], float] | None = None) -> np.ndarray:
     """The pairs whose inks leave no band free of ink wider than ``params.fill_gap`` (the
-    drawing's own spacing of passes within a bundle) between them: the gap between the
+    drawing's own spacing of passes within a bundle) between them, or are one loose line
+    whatever the band (:func:`core.lines.fit.one_loose_line`: not two tight bundles, and
+    no other ink near but that of the lines the pairs join them to): the gap between the
     lines (the median distance from the shorter's points beside the longer to it) less
     the half-widths of both inks (:func:`half_width`). Two tight bundles drawn close keep
-    a clear band; the passes of one loose line fill it. ``known``: the half-widths by
-    pieces, kept by a caller that asks about many pairs of the same lines."""
+    a clear band; the passes of one loose line fill it, or stand alone. ``known``: the
+    half-widths by pieces, kept by a caller that asks about many pairs of the same lines."""
     if not len(pairs):
         return pairs
     known = {} if known is None else known
+    chain = component_labels(len(lines), pairs)
     keep = np.zeros(len(pairs), bool)
     for k, (a, b) in enumerate(pairs.tolist()):
         short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)
         dist = project_on(lines[long_].points, lines[short].points).distance
         beside = dist[dist <= work.d]
         gap = float(np.median(beside)) if len(beside) else float(dist.min())
-        keep[k] = (gap - half_width(lines[a], work, known) - half_width(lines[b], work, known)
-                   <= work.params.fill_gap)
+        widths = half_width(lines[a], work, known), half_width(lines[b], work, known)
+        band = gap - sum(widths)
+        if band <= work.params.fill_gap:
+            keep[k] = True
+            continue
+        own = [m for j in np.flatnonzero(chain == chain[a]).tolist() for m in lines[j].members]
+        bundles = min(len(lines[a].members), len(lines[b].members)) >= 2
+        keep[k] = one_loose_line(band, 2 * max(widths), bundles,
+                                 np.concatenate([lines[a].points, lines[b].points]), own, work)
     return pairs[keep]
 
 

@@ -4,9 +4,12 @@ filling its own fields and returning a new record (``dataclasses.replace``)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
+from ..arrays.geometry import Segments
+from ..arrays.polylines import resample_each, split
 from ..complex.complex_state import ComplexState
 from ..params import SimplifyParams, Tuning
 
@@ -76,6 +79,14 @@ a group label per piece, their connected components (``group``);
     def merged(self) -> bool:
         """Whether anything was simplified: at epsilon 0 each stroke stays as drawn."""
         return self.params.epsilon > 0
+
+    @cached_property
+    def ink(self) -> Segments:
+        """Every piece's ink as chords about d_eps long (numbered by piece), for asking what
+        other ink lies within a few bundle widths of a group's (a chord that long departs
+        from a curve far less than that); made when first asked for, once per record."""
+        points, sizes = resample_each(self.pieces, self.d)
+        return Segments.of(split(points, sizes))
 
     def piece_sizes(self) -> np.ndarray:
         return np.fromiter(map(len, self.pieces), dtype=np.intp, count=len(self.pieces))
