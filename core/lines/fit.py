@@ -23,7 +23,9 @@ share, one side's ink never crossing to the other's, with a band free of ink bet
 that :func:`clear_band` says parts two lines along most of it (wider than the
 drawing's usual spacing of passes, or than the inks beside it: two tight bundles, or
 single strokes, drawn close), is split there (:func:`band_split`), each side fitted on its
-own: the width is local, from the group's own ink. Then, a piece of which less than
+own: the width is local, from the group's own ink; but not where it lies in open paper,
+no other ink within a few bands of it, and its sides are not two bundles tighter than the
+band (:func:`one_loose_line`): one loose line, however wide. Then, a piece of which less than
 ``tuning.member_share`` lies within ``member_reach`` d_eps of its group's line does not
 draw that line, and is split off; so is a piece the line leaves: it runs along the line
 and then, from the line's middle (at least ``tuning.crumb`` d_eps from either end), away
@@ -311,9 +313,9 @@ def lies_apart(points: np.ndarray, own, reach: float, ink: Segments, share: floa
     """
     most = (1 - share) * len(points)  # points with other ink near, at most
     near = 0
-    for half in (points[0::2], points[1::2]):  # the second half only where the first leaves
+    for half in (points[0::2], points[1::2]):  # the second half asked only where the
         i, seg = ink.tree.query(shapely.points(half), predicate="dwithin", distance=reach)
-        near += len(np.unique(i[~np.isin(ink.polyline[seg], own)]))  # it open
+        near += len(np.unique(i[~np.isin(ink.polyline[seg], own)]))  # first leaves it open
         if near > most:
             return False
     return True
