@@ -161,7 +161,7 @@ def _spine(pieces: list[np.ndarray], reach: float, h: float, end_zone: float,
 
 
 def _bin_stats(bins: np.ndarray, values: np.ndarray, n: int
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Which of ``n`` bins hold values, and the lowest, the median and the highest of each
     (inf, 0 and -inf where none), from one sort.
 
@@ -449,14 +449,16 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
+    sides = None
+    if len(members) > 1:
+        ink = np.concatenate(pieces)  # the group's ink, asked about at every cut
 
-    def parts(band: float, spread: float, sides: tuple[np.ndarray, np.ndarray]) -> bool:
-        bundles = min(len(sides[0]), len(sides[1])) >= 2
-        return clear_band(band, spread, work) and not one_loose_line(
-            band, spread, bundles, np.concatenate(pieces), members, work)
+        def parts(band: float, spread: float, cut: tuple[np.ndarray, np.ndarray]) -> bool:
+            bundles = min(len(cut[0]), len(cut[1])) >= 2
+            return clear_band(band, spread, work) and not one_loose_line(
+                band, spread, bundles, ink, members, work)
 
-    sides = (band_split(pieces, reach, work.d, parts, t.along_share, t.band_samples)
-             if len(members) > 1 else None)
+        sides = band_split(pieces, reach, work.d, parts, t.along_share, t.band_samples)
     if sides is not None:
         got = GroupFit(sides, None, False, None)
     else:

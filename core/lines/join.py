@@ -146,6 +146,7 @@ def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
         return pairs
     known = {} if known is None else known
     chain = component_labels(len(lines), pairs)
+    pieces_of: dict[int, list[int]] = {}  # each chain's pieces, once, where asked
     keep = np.zeros(len(pairs), bool)
     for k, (a, b) in enumerate(pairs.tolist()):
         short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)
@@ -157,10 +158,13 @@ def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
         if band <= work.params.fill_gap:
             keep[k] = True
             continue
-        own = [m for j in np.flatnonzero(chain == chain[a]).tolist() for m in lines[j].members]
+        if chain[a] not in pieces_of:
+            pieces_of[chain[a]] = [m for j in np.flatnonzero(chain == chain[a]).tolist()
+                                   for m in lines[j].members]
         bundles = min(len(lines[a].members), len(lines[b].members)) >= 2
         keep[k] = one_loose_line(band, 2 * max(widths), bundles,
-                                 np.concatenate([lines[a].points, lines[b].points]), own, work)
+                                 np.concatenate([lines[a].points, lines[b].points]),
+                                 pieces_of[chain[a]], work)
     return pairs[keep]
 
 
