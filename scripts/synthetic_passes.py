@@ -9,9 +9,12 @@ The clean curves are the lift3d designers' ``full_fit.scap`` curves of ``../shar
 offset from it by a constant (sigma 0.4% of the diagonal D), a slow wander (0.3% D,
 wavelength 10-30% D) and a tremor (0.05% D), its ends trimmed by up to 2% D or run on by
 up to 2% D along the curve's tangent; the seed is the file's path, so a run is repeatable.
-The measures (``scripts/metrics.py``): whole lines of the output and of the passes
-themselves, wobble and doubled on the reference; medians, and the count of sketches whose
-output keeps fewer curves whole than its own rough passes.
+The measures (``scripts/metrics.py``): whole lines of the output, of the passes
+themselves and of one median fit per curve's passes (``cluster_reference`` given the true
+labels: where the ceiling is); the grouping's pair precision and recall against the true
+labels (a loss there is the grouping's, a loss beside a whole grouping the fit's); wobble
+and doubled on the reference; medians, and the count of sketches whose output keeps fewer
+curves whole than its own rough passes.
 
 Unlike ``cluster_reference`` (the stand-in reference of the labelled sketches, itself a
 median fit along the longest stroke, which keeps that stroke's wander), the reference here
@@ -41,17 +44,22 @@ WAVELENGTH, END = (0.1, 0.3), 0.02
 STEP = 0.002
 
 
-def rough_passes(curves: list[np.ndarray], diagonal: float, seed: int) -> list[np.ndarray]:
-    """Each of ``curves`` drawn as 2 to 4 rough passes (see the module).
+def rough_passes(curves: list[np.ndarray], diagonal: float, seed: int,
+                 offset: float = OFFSET) -> tuple[list[np.ndarray], list[int]]:
+    """Each of ``curves`` drawn as 2 to 4 rough passes (see the module): the passes, and
+    for each the index of the curve it was drawn from (its true label). ``offset`` is the
+    sigma of a pass's constant offset (D).
 
     >>> line = np.array([[0.0, 0.0], [100.0, 0.0]])
-    >>> passes = rough_passes([line], 500.0, 1)
-    >>> 2 <= len(passes) <= 4, all(np.abs(p[:, 1]).max() < 0.03 * 500 for p in passes)
-    (True, True)
+    >>> passes, labels = rough_passes([line, line + 50], 500.0, 1)
+    >>> all(np.abs(p[:, 1] - 50 * k).max() < 0.03 * 500 for p, k in zip(passes, labels))
+    True
+    >>> sorted(set(labels)), all(2 <= labels.count(k) <= 4 for k in (0, 1))
+    ([0, 1], True)
     """
     rng = np.random.default_rng(seed)
-    out = []
-    for curve in curves:
+    out, labels = [], []
+    for label, curve in enumerate(curves):
         line = shapely.LineString(curve)
         if line.length <= 0:
             continue
@@ -64,25 +72,26 @@ def rough_passes(curves: list[np.ndarray], diagonal: float, seed: int) -> list[n
             head = rng.uniform(-END, END / 2) * diagonal
             tail = rng.uniform(-END / 2, END) * diagonal
             wavelength = rng.uniform(*WAVELENGTH) * diagonal
-            offset = (rng.normal(0, OFFSET * diagonal)
+            across = (rng.normal(0, offset * diagonal)
                       + WANDER * diagonal * np.sin(2 * np.pi * s / wavelength
                                                    + rng.uniform(0, 2 * np.pi))
                       + rng.normal(0, TREMOR * diagonal, len(s)))
             keep = (s >= max(0.0, -head)) & (s <= line.length + min(0.0, tail))
             if keep.sum() < 2:
                 continue
-            drawn = (points + normal * offset[:, None])[keep]
+            drawn = (points + normal * across[:, None])[keep]
             first, last = tangent[keep][0], tangent[keep][-1]
             if head > 0:
                 drawn = np.vstack([drawn[0] - first * head, drawn])
             if tail > 0:
                 drawn = np.vstack([drawn, drawn[-1] + last * tail])
             out.append(drawn)
-    return out
+            labels.append(label)
+    return out, labels
 
 
-def score_one(args: tuple[str, str, dict]) -> tuple[str, dict]:
-    root, path, options = args
+def score_one(args: tuple[str, str, dict, float]) -> tuple[str, dict]:
+    root, path, options, offset = args
     use_checkout(root)
     import metrics
 
@@ -91,12 +100,20 @@ def score_one(args: tuple[str, str, dict]) -> tuple[str, dict]:
     clean = read_sketch(path)
     reference = [s.points for s in clean.strokes if len(s.points) >= 2]
     diagonal = float(np.hypot(clean.width, clean.height))
-    ink = rough_passes(reference, diagonal, zlib.crc32(Path(path).as_posix().encode()))
-    result = simplify(Sketch([Stroke(p) for p in ink], clean.width, clean.height),
-                      SimplifyParams(**options))
+    ink, labels = rough_passes(reference, diagonal,
+                               zlib.crc32(Path(path).as_posix().encode()), offset)
+    sketch = Sketch([Stroke(p, source_id=k) for k, p in enumerate(ink)], clean.width,
+                    clean.height)
+    result = simplify(sketch, SimplifyParams(**options))
     out = [s.points for s in result.strokes]
+    of = {s.source_id: g for s, g in zip(result.cleaned.strokes, result.groups.tolist())}
+    groups = np.array([of.get(s.source_id, -1) for s in sketch.strokes])
+    precision, recall = metrics.pair_precision_recall(groups, np.array(labels))
+    anchor = metrics.cluster_reference(ink, labels, diagonal)
     return path, {"whole_lines": metrics.whole_lines(out, reference, diagonal),
                   "whole_lines_input": metrics.whole_lines(ink, reference, diagonal),
+                  "whole_lines_anchor": metrics.whole_lines(anchor, reference, diagonal),
+                  "pair_precision": precision, "pair_recall": recall,
                   "wobble": metrics.wobble(out, reference, diagonal),
                   "doubled_ref": metrics.doubled_on_reference(out, reference, diagonal),
                   "strokes_in": len(ink), "strokes_out": len(out), "curves": len(reference)}
@@ -109,6 +126,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--data", type=Path, default=DATA, help="laid out as ../shared/data")
     ap.add_argument("--param", default="", help="options to change, as name=value,...")
+    ap.add_argument("--offset", type=float, default=OFFSET,
+                    help="sigma of a pass's constant offset (fraction of D)")
     args = ap.parse_args(argv)
     files = sorted(str(p) for p in args.data.resolve().rglob("full_fit.scap"))
     if not files:
@@ -117,8 +136,9 @@ def main(argv: list[str] | None = None) -> int:
     options = assignments(args.param)
     root = str(Path(args.root).resolve())
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-        rows = dict(pool.map(score_one, [(root, f, options) for f in files]))
-    for name in ("whole_lines", "whole_lines_input", "wobble", "doubled_ref"):
+        rows = dict(pool.map(score_one, [(root, f, options, args.offset) for f in files]))
+    for name in ("whole_lines", "whole_lines_input", "whole_lines_anchor", "pair_precision",
+                 "pair_recall", "wobble", "doubled_ref"):
         print(f"{name} {np.median([r[name] for r in rows.values()]):.3f}")
     below = sum(r["whole_lines"] < r["whole_lines_input"] for r in rows.values())
     print(f"whole lines below the rough passes' own: {below} of {len(rows)}")

@@ -477,10 +477,7 @@ def rendered_alpha(size: tuple[int, int], ortho: float, path) -> np.ndarray:
     return px.reshape(rows, cols, 4)[::-1, :, 3] > 0.5
 
 
-@pytest.mark.parametrize("part", ["shapes", pytest.param("pupils", marks=pytest.mark.xfail(
-    strict=True, reason="issue 51: a pupil 3.3 d_eps round is cut at 'corners' by pass 1 (the "
-    "turn test's window, 2 d_eps each side, wraps round it); not cutting rings that small "
-    "cost product sketches 0.03 of whole lines (docs/decisions.md)"))])
+@pytest.mark.parametrize("part", ["shapes", "pupils"])
 def test_fills_rendered_cover_the_regions_and_keep_the_holes(tmp_path, part):
     """A ring, a figure-eight and a face with two eyes and their pupils, simplified with
     Fill Regions and rendered by Workbench (the fills layer alone): counted pixel by

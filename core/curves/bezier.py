@@ -16,7 +16,7 @@ from ..arrays.polylines import arc_lengths, end_to_end, gaussian_kernel, smoothe
 
 __all__ = [
     "MAX_DEPTH", "SAMPLES_PER_SEGMENT", "corner_indices", "evaluate_bezier", "fit_bezier",
-    "fit_beziers", "sample_bezier", "smooth_between_corners", "subdivide_bezier",
+    "fit_beziers", "sample_bezier", "smooth_between_corners", "subdivide_bezier", "turning_on",
 ]
 
 
@@ -98,8 +98,17 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / n if n > 0 else v
 
 
-def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) -> list[int]:
-    """Indices where the polyline turns by more than the angle within ``reach`` each side."""
+def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float,
+                   round_share: float | None = None) -> list[int]:
+    """Indices where the polyline turns by more than the angle within ``reach`` each side;
+    with ``round_share``, not where it goes on turning that way beyond, at least that
+    share as fast (:func:`turning_on`: a small round shape, not a corner).
+
+    >>> t = np.linspace(0, 2 * np.pi, 40)
+    >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)  # turns 86 degrees within 1.5 each side
+    >>> len(corner_indices(ring, 60, 1.5)) > 0, corner_indices(ring, 60, 1.5, 0.5)
+    (True, [])
+    """
     if len(points) < 3:
         return []
     s = arc_lengths(points)
@@ -121,7 +130,51 @@ def corner_indices(points: np.ndarray, corner_angle_deg: float, reach: float) ->
                 corners[-1] = int(k)
             continue
         corners.append(int(k))
+    if round_share is not None:
+        corners = [k for k in corners if not turning_on(points, s, k, reach, round_share)]
     return corners
+
+
+def turning_on(points: np.ndarray, s: np.ndarray, k: int, reach: float, share: float
+               ) -> bool:
+    """Whether the polyline (arc lengths ``s``), turning at ``k`` within ``reach`` each
+    side, goes on turning the same way over the next ``reach`` beyond (on each side that
+    has ink there), at least ``share`` as fast per length: a small round shape (an eye, a
+    dot, a curl), not a corner, whose arms run on straight, or bend much less. A polyline
+    with ink beyond on neither side (shorter than four reaches about ``k``) is asked again
+    at the reach it holds on both sides, half the shorter: an eye drawn in one stroke
+    turns on all round at its own size, however large the reach.
+
+    >>> t = np.linspace(0, 2 * np.pi, 64)
+    >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)  # round: turning on at every point
+    >>> turning_on(ring, arc_lengths(ring), 32, 0.8, 0.5)
+    True
+    >>> corner = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 0.5], [1.0, 1.0]])
+    >>> turning_on(corner, arc_lengths(corner), 2, 0.5, 0.5)
+    False
+    >>> eye = ring[:56] * 0.1  # most of a small ring, far shorter than the reach
+    >>> turning_on(eye, arc_lengths(eye), 28, 0.8, 0.5)
+    True
+    """
+    at = np.searchsorted(s, s[k] + np.array([-2, -1, 1, 2]) * reach).clip(0, len(points) - 1)
+    b2, b1, a1, a2 = at
+
+    def rate(x: int, y: int, z: int) -> float | None:
+        """How fast the chord x-y turns into the chord y-z, per length between their
+        middles (None where either has no length: the stroke ends within reach)."""
+        u, v = points[y] - points[x], points[z] - points[y]
+        if not (s[y] > s[x] and s[z] > s[y]):
+            return None
+        turn = float(np.arctan2(u[0] * v[1] - u[1] * v[0], u @ v))
+        return turn / ((s[z] - s[x]) / 2)
+
+    here = rate(b1, k, a1)
+    beyond = [r for r in (rate(b2, b1, k), rate(k, a1, a2)) if r is not None]
+    if not beyond and reach > 0:  # a short stroke: asked again at its own size
+        fits = min(s[k] - s[0], s[-1] - s[k]) / 2
+        if 0 < fits < reach:
+            return turning_on(points, s, k, fits, share)
+    return bool(here and beyond and all(r / here >= share for r in beyond))
 
 
 #: a piece of n samples is smoothed by a sigma of at most n / SIGMA_SHARE samples: as much
@@ -339,8 +392,9 @@ def fit_bezier(points: np.ndarray, max_error: float, corner_angle_deg: float = 5
 
 
 def fit_beziers(polylines: list[np.ndarray], max_error: float, corner_angle_deg: float,
-                closed: list[bool]) -> list[np.ndarray]:
-    """:func:`fit_bezier` of each polyline, all fitted together (each the same as alone)."""
+                closed: list[bool], round_share: float | None = None) -> list[np.ndarray]:
+    """:func:`fit_bezier` of each polyline, all fitted together (each the same as alone);
+    with ``round_share``, a small round shape has no corners (:func:`corner_indices`)."""
     reach = 4 * max_error
     pieces, owner = [], []
     for k, (points, loop) in enumerate(zip(polylines, closed)):
@@ -349,7 +403,8 @@ def fit_beziers(polylines: list[np.ndarray], max_error: float, corner_angle_deg:
         pts = pts[keep]
         if len(pts) < 2:
             raise ValueError("a curve needs two distinct points")
-        cuts = sorted({0, *corner_indices(pts, corner_angle_deg, reach), len(pts) - 1})
+        cuts = sorted({0, *corner_indices(pts, corner_angle_deg, reach, round_share),
+                       len(pts) - 1})
         for i, j in zip(cuts[:-1], cuts[1:]):
             seg = pts[i:j + 1]
             t0 = _end_tangent(seg, reach)

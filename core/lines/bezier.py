@@ -42,7 +42,8 @@ def _smoothed(pts: np.ndarray, closed: bool, params: SimplifyParams) -> np.ndarr
     ``params.smoothing`` d_eps (a sigma of smoothing / sample samples)."""
     if params.smoothing <= 0:
         return pts
-    corners = corner_indices(pts, params.corner_angle, params.alpha)
+    corners = corner_indices(pts, params.corner_angle, params.alpha,
+                             params.tuning.round_share)
     return smooth_between_corners(pts, params.smoothing / params.tuning.sample, corners,
                                   closed)
 
@@ -60,7 +61,7 @@ def fit_lines(lines: list[np.ndarray], closed: list[bool], params: SimplifyParam
     if todo:  # fitted together
         made = fit_beziers([_smoothed(pts, closed, params) for _, (pts, closed) in todo],
                            params.fit_error * params.alpha, params.corner_angle,
-                           [closed for _, (_, closed) in todo])
+                           [closed for _, (_, closed) in todo], params.tuning.round_share)
         for (key, _), bezier in zip(todo, made):
             fits[key] = (bezier, sample_bezier(bezier, SAMPLES_PER_SEGMENT))
             memo.fits.put(key, fits[key])

@@ -5,8 +5,11 @@ it where that meets it within ``tuning.overshoot`` d_eps (a T, or an L where the
 line ends there too), else joined straight to its nearest point where that turns by at
 most ``tuning.meet_turn`` (a corner), else bent gently onto it (over ``tuning.meet_bend``
 times the gap: a segment turning back would be a hook no pen drew); an end that crosses
-it and runs on by at most ``tuning.overshoot`` d_eps is cut at the crossing. Lines that
-cross farther from their ends go straight through: nothing here moves them. Fitting Beziers
+it and runs on by at most ``tuning.overshoot`` d_eps is cut at the crossing where the
+other line, too, ends within that of it (a corner drawn with overshoots, an L); past the
+middle of a line (a fin's edge drawn on over the body, an eave past the wall) it is left
+where its ink ends. Lines that cross farther from their ends go straight through:
+nothing here moves them. Fitting Beziers
 (pass 10) moves a line a little, so after the fit each end that met a line is moved again
 onto that line's curve (:func:`met_ends`). Not at epsilon 0, which keeps every stroke as
 drawn.
@@ -81,8 +84,9 @@ class Meeting:
     cos_max: float
     #: a line whose end moved is resampled to this
     spacing: float
-    #: whether an overshoot is cut back (else an end that crosses a line within ``over`` of
-    #: it is left as drawn, and only ends short of a line move)
+    #: whether an overshoot at a corner is cut back (an end crossing a line within ``over``
+    #: of it, where that line also ends within ``over``: :func:`_near_an_end`); else an end
+    #: that crosses a line is left as drawn, and only ends short of a line move
     cut: bool = True
     #: the other line's direction at a foot is taken over this share of ``reach`` each side
     tangent: float = Tuning.meet_tangent
@@ -123,6 +127,24 @@ def bend_to(points: np.ndarray, end: int, at: np.ndarray, length: float) -> np.n
     return out if end == 1 else out[::-1]
 
 
+def _near_an_end(line: shapely.LineString, points: np.ndarray, over: float) -> bool:
+    """Whether any of ``points`` (on the open ``line``) lies within ``over`` of one of its
+    ends, along it: two lines that each run on past the other there cross at a corner
+    drawn with overshoots (an L), not where one runs on over the other's middle (a T
+    drawn past its bar, an X near an end).
+
+    >>> bar = shapely.LineString([(0.0, 0.0), (10.0, 0.0)])
+    >>> _near_an_end(bar, np.array([[9.5, 0.0]]), 1.0)
+    True
+    >>> _near_an_end(bar, np.array([[5.0, 0.0]]), 1.0)
+    False
+    """
+    if line.is_ring:
+        return False
+    at = shapely.line_locate_point(line, shapely.points(points))
+    return bool(np.any((at <= over) | (at >= line.length - over)))
+
+
 def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
                 ) -> tuple[np.ndarray, int, bool] | None:
     """Where one end should meet one of the ``others`` (shapely lines), which of them, and
@@ -140,8 +162,8 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
     for which, other in enumerate(others):
         crossing = shapely.get_coordinates(shapely.intersection(shapely.LineString(tip),
                                                                 other))
-        if len(crossing) and not cut:
-            return None  # it runs on past a line: an overshoot, left as drawn
+        if len(crossing) and not (cut and _near_an_end(other, crossing, over)):
+            return None  # it runs on past a line: left as drawn, its ink ends there
         bent = False
         if len(crossing):
             target = crossing[np.argmin(np.hypot(*(crossing - e).T))]

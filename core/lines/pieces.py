@@ -26,50 +26,15 @@ def cut_at_corners(points: np.ndarray, spacing: float, angle: float, reach: floa
     """A polyline resampled every ``spacing`` and cut where it turns more than ``angle``
     degrees within ``reach`` each side, unless it goes on turning that way over the next
     ``reach`` beyond, on each side with ink there, at least ``round_share`` as fast per
-    length (:func:`_turning_on`: round, not a corner).
+    length (:func:`core.curves.bezier.turning_on`: round, not a corner).
 
     >>> corner = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
     >>> [p[[0, -1]].tolist() for p in cut_at_corners(corner, 0.25, 70, 0.3)]
     [[[0.0, 0.0], [1.0, 0.0]], [[1.0, 0.0], [1.0, 1.0]]]
     """
     pts = resample_polyline(points, spacing)
-    corners = corner_indices(pts, angle, reach)
-    s = arc_lengths(pts) if corners else None
-    cuts = [k for k in corners if not _turning_on(pts, s, k, reach, round_share)]
-    bounds = [0, *cuts, len(pts) - 1]
+    bounds = [0, *corner_indices(pts, angle, reach, round_share), len(pts) - 1]
     return [pts[a:b + 1] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
-
-
-def _turning_on(points: np.ndarray, s: np.ndarray, k: int, reach: float, share: float
-                ) -> bool:
-    """Whether the polyline (arc lengths ``s``), turning at ``k`` within ``reach`` each
-    side, goes on turning the same way over the next ``reach`` beyond (on each side that
-    has ink there), at least ``share`` as fast per length: a small round shape (an eye, a
-    dot, a curl), not a corner, whose arms run on straight, or bend much less.
-
-    >>> t = np.linspace(0, 2 * np.pi, 64)
-    >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)  # round: turning on at every point
-    >>> _turning_on(ring, arc_lengths(ring), 32, 0.8, 0.5)
-    True
-    >>> corner = np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 0.5], [1.0, 1.0]])
-    >>> _turning_on(corner, arc_lengths(corner), 2, 0.5, 0.5)
-    False
-    """
-    at = np.searchsorted(s, s[k] + np.array([-2, -1, 1, 2]) * reach).clip(0, len(points) - 1)
-    b2, b1, a1, a2 = at
-
-    def rate(x: int, y: int, z: int) -> float | None:
-        """How fast the chord x-y turns into the chord y-z, per length between their
-        middles (None where either has no length: the stroke ends within reach)."""
-        u, v = points[y] - points[x], points[z] - points[y]
-        if not (s[y] > s[x] and s[z] > s[y]):
-            return None
-        turn = float(np.arctan2(u[0] * v[1] - u[1] * v[0], u @ v))
-        return turn / ((s[z] - s[x]) / 2)
-
-    here = rate(b1, k, a1)
-    beyond = [r for r in (rate(b2, b1, k), rate(k, a1, a2)) if r is not None]
-    return bool(here and beyond and all(r / here >= share for r in beyond))
 
 
 def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float,
