@@ -190,17 +190,21 @@ def test_two_eyes_each_three_passes_short_of_or_past_a_full_turn_stay_closed_and
     assert all(np.ptp(s.points[:, 0]) > 0.7 * 0.02 * D for s in small)
 
 
-def test_an_eye_drawn_as_two_strokes_each_most_of_the_way_round_is_one_round_closed_line():
-    """An eye 1.6% of the diagonal wide (about one and a half bundle widths at the default
-    epsilon) drawn as two strokes, each 0.8 of a turn, the second begun halfway round the
-    first, inside a face: one closed line, round (no corners: each stroke is shorter than
-    the corner test's window, so it is judged at its own size)."""
+@pytest.mark.parametrize("width", [0.016, pytest.param(0.03, marks=pytest.mark.xfail(
+    strict=True, reason="issue 51: the joint fit's spine is the longer stroke; the other runs "
+    "on over its end onto its start without leaving it, so it is not attached, and the gap "
+    "(0.2 of a turn) is wider than ends that meet (docs/decisions.md, session 13)"))])
+def test_an_eye_drawn_as_two_strokes_each_most_of_the_way_round_is_one_round_closed_line(width):
+    """An eye 1.6% or 3% of the diagonal wide (one and a half or three bundle widths at the
+    default epsilon) drawn as two strokes, each 0.8 of a turn, the second begun halfway
+    round the first, inside a face: one closed line, round (no corners: a stroke shorter
+    than the corner test's window is judged at its own size)."""
     def arc(start: float, radius: float) -> np.ndarray:
         t = start + np.linspace(0, 2 * np.pi * 0.8, 40)
         return np.stack([180 + radius * np.cos(t), 200 + radius * np.sin(t)], axis=1)
 
     face = [ring((250, 250), 200, turn=k, seed=k) for k in range(2)]
-    radius = 0.008 * D
+    radius = width / 2 * D
     small = [s for s in lines_of(face + [arc(0.0, radius), arc(3.0, radius + 1.0)])
              if np.ptp(s.points[:, 0]) < 0.06 * D]
     assert len(small) == 1 and small[0].closed
