@@ -98,8 +98,9 @@ class Tuning:
     cut_reach: float = 2.0
     #: ... but not where the stroke goes on turning the same way over the next cut_reach,
     #: on each side with ink there, at least this share as fast per length: a small round
-    #: shape (an eye, a curl) is not a corner (pass 1). decisions: "a small round shape is
-    #: not cut at corners"
+    #: shape (an eye, a curl) is not a corner (pass 1; the same test decides the corners
+    #: of pass 10). decisions: "a small round shape is not cut at corners", "a short round
+    #: stroke judged at its own size"
     round_share: float = 0.5
     #: ink coming back within follow_reach of a stroke's earlier ink, over this many
     #: follow_reach back along it, is the stroke drawn over itself: a new piece (pass 1).

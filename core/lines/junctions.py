@@ -149,8 +149,9 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
                 ) -> tuple[np.ndarray, int, bool] | None:
     """Where one end should meet one of the ``others`` (shapely lines), which of them, and
     whether the end is bent there (else cut or extended straight): the crossing nearest
-    the end on its last ``over`` (where ``cut``; else an end that crosses a line there is
-    left as it is); else, for a line whose nearest point lies within ``reach``, where the
+    the end on its last ``over``, where ``cut`` and the other line ends near it too (a
+    corner: :func:`_near_an_end`; else an end that crosses a line there is left as it
+    is); else, for a line whose nearest point lies within ``reach``, where the
     end carried straight on meets it within ``over`` (extended), or that nearest point
     (joined straight, or bent where that would turn back). None where there is none, or
     the line runs along the other."""
