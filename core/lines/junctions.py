@@ -159,12 +159,13 @@ def _end_target(points: np.ndarray, end: int, others: np.ndarray, how: Meeting
     e = points[0] if end == 0 else points[-1]
     tip = tip_of(points, end, over)
     direction = unit_rows((tip[0] - tip[-1])[None])[0]  # out of the line, at the end
+    crossings = [shapely.get_coordinates(g)
+                 for g in shapely.intersection(shapely.LineString(tip), others)]
+    if any(len(c) and not (cut and _near_an_end(o, c, over))
+           for o, c in zip(others, crossings)):
+        return None  # it runs on past a line: left as drawn, its ink ends there
     best, best_gap = None, np.inf
-    for which, other in enumerate(others):
-        crossing = shapely.get_coordinates(shapely.intersection(shapely.LineString(tip),
-                                                                other))
-        if len(crossing) and not (cut and _near_an_end(other, crossing, over)):
-            return None  # it runs on past a line: left as drawn, its ink ends there
+    for which, (other, crossing) in enumerate(zip(others, crossings)):
         bent = False
         if len(crossing):
             target = crossing[np.argmin(np.hypot(*(crossing - e).T))]
