@@ -90,6 +90,17 @@ def use_checkout(root: str) -> None:
     assert Path(core.__file__).resolve().parent.parent == Path(root).resolve(), core.__file__
 
 
+def input_groups(sketch, result) -> list[int] | None:
+    """The output stroke that draws each of ``sketch``'s strokes (``result.groups``), -1
+    for a stroke cleaning dropped, matched by ``source_id``; None for a checkout whose
+    result has no groups (before 2026-12-04)."""
+    groups = getattr(result, "groups", None)
+    if groups is None:
+        return None
+    of = {s.source_id: g for s, g in zip(result.cleaned.strokes, groups.tolist())}
+    return [of.get(s.source_id, -1) for s in sketch.strokes]
+
+
 def assignments(text: str) -> dict[str, float]:
     """``name=value,...`` (``--tuning``, ``--param``) as a dict; empty text, none.
 
@@ -124,11 +135,8 @@ def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:
     if svg_dir:
         name = Path(path).relative_to(data).as_posix().replace("/", "__")
         write_sketch(result.to_sketch(), Path(svg_dir) / (Path(name).stem + ".svg"))
-    groups = getattr(result, "groups", None)  # (checkouts before 2026-12-04 have none)
-    if groups is not None:  # by stroke id: cleaning may drop a stroke
-        of = {s.source_id: g for s, g in zip(result.cleaned.strokes, groups.tolist())}
-        groups = [of.get(s.source_id, -1) for s in sketch.strokes]
-    return path, measure(Path(path), sketch, [s.points for s in result.strokes], groups)
+    return path, measure(Path(path), sketch, [s.points for s in result.strokes],
+                         input_groups(sketch, result))
 
 
 def far_ink(args: tuple[str, str]) -> tuple[str, float]:

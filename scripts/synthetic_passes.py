@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
-from quality import assignments, use_checkout
+from quality import assignments, input_groups, use_checkout
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE.parent.parent / "shared" / "data"
@@ -106,9 +106,8 @@ def score_one(args: tuple[str, str, dict, float]) -> tuple[str, dict]:
                     clean.height)
     result = simplify(sketch, SimplifyParams(**options))
     out = [s.points for s in result.strokes]
-    of = {s.source_id: g for s, g in zip(result.cleaned.strokes, result.groups.tolist())}
-    groups = np.array([of.get(s.source_id, -1) for s in sketch.strokes])
-    precision, recall = metrics.pair_precision_recall(groups, np.array(labels))
+    precision, recall = metrics.pair_precision_recall(np.array(input_groups(sketch, result)),
+                                                      np.array(labels))
     anchor = metrics.cluster_reference(ink, labels, diagonal)
     return path, {"whole_lines": metrics.whole_lines(out, reference, diagonal),
                   "whole_lines_input": metrics.whole_lines(ink, reference, diagonal),
