@@ -87,6 +87,36 @@ def test_a_circle_drawn_as_five_loose_overlapping_arcs_gives_one_closed_stroke()
     assert np.abs(radius - 150).max() < 0.005 * DIAGONAL
 
 
+@pytest.mark.parametrize("arcs", [2, 3, 5])
+@pytest.mark.parametrize("overlap", [0.0, 0.1, 0.25])
+def test_a_circle_drawn_as_arcs_each_carried_on_from_the_last_gives_one_closed_stroke(
+        arcs, overlap):
+    """Arcs drawn one after another round a circle, each starting where the last ended or
+    a little over it (``overlap`` radians each side): one closed stroke on the circle,
+    however the lines the arcs make pair up (two lines overlapping at both ends close
+    one ring)."""
+    rng = np.random.default_rng(arcs)
+    strokes = []
+    for k in range(arcs):
+        t = np.linspace(-overlap, 2 * np.pi / arcs + overlap, 60) + k * 2 * np.pi / arcs
+        r = 150 + rng.normal(0, 0.3, len(t))
+        strokes.append(np.stack([250 + r * np.cos(t), 250 + r * np.sin(t)], axis=1))
+    out = pen(strokes)
+    assert len(out) == 1 and out[0].closed
+    radius = np.hypot(*(out[0].points - 250).T)
+    assert np.abs(radius - 150).max() < 0.005 * DIAGONAL
+
+
+def test_two_arcs_meeting_at_corners_stay_two_lines():
+    """An almond drawn as two arcs meeting at sharp corners at both ends: neither carries
+    on from the other, so they do not close one round ring."""
+    t = np.linspace(np.pi / 4, 3 * np.pi / 4, 60)
+    upper = np.stack([250 + 200 * np.cos(t), 100 + 200 * np.sin(t) - 0], axis=1)
+    lower = upper * [1, -1] + [0, 2 * 100 + 2 * 200 * np.sin(np.pi / 4)]
+    out = pen([upper, lower[::-1]])
+    assert len(out) == 2 and not any(s.closed for s in out)
+
+
 def test_two_tight_bundles_one_percent_of_the_diagonal_apart_stay_two_lines_in_place():
     gap = 0.01 * DIAGONAL
     out = pen(passes([100, 200], [400, 200], spread=0.5, seed=3)

@@ -815,8 +815,6 @@ def test_a_pass_beside_part_of_a_long_stroke_merges_into_it_though_crossings_cut
     assert max_distance_to(np.vstack([wave(0, 100, 0), wave(20, 60, 1.3)]), [longest]) <= d_eps
 
 
-@pytest.mark.xfail(strict=True, reason="issue 51: "
-                   "a loop drawn as five overlapping arcs comes out as two open lines")
 def test_a_loop_drawn_as_overlapping_pieces_is_one_closed_stroke():
     """Five arcs of a circle, each overlapping the next by a few degrees, with a little
     wobble: one closed stroke."""

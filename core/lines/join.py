@@ -7,7 +7,13 @@ curves (3.2.2): paired side by side, overlapping, or end to end across a gap und
 (:func:`core.merge.curve_merge.pair_and_merge_many`), and joined where the merged
 curve's Fourier descriptor distance to either line is below epsilon, or where one
 carries on from the other (overlapping at an end, or end to end): the Fourier distance
-sees a longer arc as a change of shape, and five arcs of a circle never joined; and, as pass 4's
+sees a longer arc as a change of shape, and five arcs of a circle never joined; or where
+the two close one loop between them, each carrying on from each end of the other (a ring
+drawn as two arcs: the curve merge pairs one end only, :func:`_close_each_other`); or end
+to end where the merge's blend of the two is no curve (an arc turning over 90 degrees past
+the other's end), but only round a loop, the other joined pairs linking them anyway
+(:func:`_round_a_loop`: three arcs of a circle; an open chain, a spiral's turns, is the
+merge's to pair); and, as pass 4's
 groups are, where the shorter lies along the longer (within d_eps, running along it) over
 ``tuning.along_share`` of its length (:func:`core.lines.fit.along_pairs`: a loose pass
 the Fourier distance sees as a change of shape). Either way, only where the two inks
@@ -29,6 +35,7 @@ result does not depend on any order of judging.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -36,7 +43,7 @@ import shapely
 
 from ..arrays.components import component_labels
 from ..arrays.geometry import project_on
-from ..merge.curve_merge import SampledCurve, pair_and_merge_many, sample_spacing
+from ..merge.curve_merge import SampledCurve, continues, pair_and_merge_many, sample_spacing
 from ..merge.fourier import curve_descriptors, fd_distance
 from .fit import along_pairs, one_loose_line, regroup
 from .work import Line, Work
@@ -49,7 +56,10 @@ class Judged(NamedTuple):
     alone (each the fit of its pieces), so kept by their pieces from round to round and
     from replay to replay (:class:`core.curves.memo.StrokeMemo`)."""
 
-    how: str | None  #: how the curve-curve merge pairs them ('side', 'overlap', 'end')
+    #: how the curve-curve merge pairs them ('side', 'overlap', 'end'), or, where it does
+    #: not, whether they close a loop between them ('ring') or go on end to end where its
+    #: blend is no curve ('round')
+    how: str | None
     cost: float  #: a side-by-side merge's Fourier distance to the nearer line (else inf)
     along: bool  #: the shorter lies along the longer (:func:`core.lines.fit.along_pairs`)
 
@@ -79,9 +89,54 @@ def _judge(lines: list[Line], a: np.ndarray, b: np.ndarray, work: Work) -> list[
                           float(fd_distance(own[at[int(b[k])]], m)))
     along = {(int(x), int(y)) for x, y in along_pairs(sub, work).tolist()}
     lengths = np.array([ln.length for ln in sub])
-    return [Judged(how if m is not None else None, float(c),
-                   ((i, j) if lengths[i] <= lengths[j] else (j, i)) in along)
-            for (how, m), c, i, j in zip(found, cost.tolist(), ra, rb)]
+    how = [h if m is not None else None for h, m in found]
+    cos_max = math.cos(math.radians(params.angle))
+    open_ = [k for k, h in enumerate(how) if h is None]
+    if open_:
+        rings = _close_each_other([(curves[ra[k]], curves[rb[k]]) for k in open_], d, cos_max)
+        for k in np.asarray(open_)[rings].tolist():
+            how[k] = "ring"
+    for k in [k for k, h in enumerate(how) if h is None]:
+        # end to end, where the merge loop's blend of the two is no curve (an arc turning
+        # over 90 degrees beyond the other's end): joined only round a loop (see
+        # :func:`joined_pairs`)
+        if continues(curves[ra[k]], curves[rb[k]], d, cos_max):
+            how[k] = "round"
+    return [Judged(h, float(c), ((i, j) if lengths[i] <= lengths[j] else (j, i)) in along)
+            for h, c, i, j in zip(how, cost.tolist(), ra, rb)]
+
+
+def _close_each_other(pairs: list[tuple[SampledCurve, SampledCurve]], d: float,
+                      cos_max: float) -> np.ndarray:
+    """Whether each pair of open curves closes one loop: each end of each lies within
+    ``d`` of the other, and one carries on from each end of the other, heading the way it
+    was going there (a ring drawn as two arcs, overlapping or meeting at both ends). The
+    curve-curve merge pairs one carrying on from one end of the other only; a loop drawn
+    as five arcs ended as two open lines overlapping at both ends."""
+    if not pairs:
+        return np.zeros(0, dtype=bool)
+    n = len(pairs)
+
+    def ends_near(ends_of: int) -> np.ndarray:
+        """Whether both ends of each pair's curve ``ends_of`` lie within d of the other."""
+        rows = np.array([pair[ends_of].ends for pair in pairs])  # point, tangent, point, ...
+        other = np.array([pair[1 - ends_of].line for pair in pairs], dtype=object)
+        tips = shapely.points(np.concatenate([rows[:, 0:2], rows[:, 4:6]]))
+        return (shapely.distance(tips, np.tile(other, 2)) <= d).reshape(2, n).all(axis=0)
+
+    near = ends_near(0) & ends_near(1)
+    out = np.zeros(n, dtype=bool)
+    for k in np.flatnonzero(near).tolist():
+        a, b = pairs[k]
+        # where b's start and end lie along a, and a's direction there
+        s = shapely.line_locate_point(a.line, shapely.points(b.points[[0, -1]]))
+        at = np.clip(np.searchsorted(a.s, s), 0, len(a.s) - 1)
+        t0, t1 = b.tangents[0] @ a.tangents[at[0]], b.tangents[-1] @ a.tangents[at[1]]
+        if t0 < 0:  # walk b the other way round
+            t0, t1, s = -t1, -t0, s[::-1]
+        # b leaves from near a's end, heading on, and comes back in at a's start
+        out[k] = bool(t0 >= cos_max and t1 >= cos_max and s[0] > s[1])
+    return out
 
 
 def joined_pairs(lines: list[Line], work: Work, known=None) -> np.ndarray:
@@ -108,6 +163,8 @@ def joined_pairs(lines: list[Line], work: Work, known=None) -> np.ndarray:
     # under d_eps): one motion of the line drawn on, whatever the change of shape
     joins = np.array([g.how is not None and (g.how != "side" or g.cost < eps) for g in got],
                      dtype=bool)
+    how = np.array([g.how for g in got], dtype=object)
+    joins &= _round_a_loop(len(lines), a, b, joins & (how != "side"), how == "round")
     along = np.array([g.along for g in got], dtype=bool)
     lengths = np.array([ln.length for ln in lines])
     swap = lengths[a] > lengths[b]  # shorter first; of two as long, the smaller index
@@ -115,6 +172,31 @@ def joined_pairs(lines: list[Line], work: Work, known=None) -> np.ndarray:
     order = np.argsort(short.astype(np.int64) * len(lines) + long_, kind="stable")
     return np.concatenate([np.stack([a[joins], b[joins]], axis=1),
                            np.stack([short[order], long_[order]], axis=1)]).astype(np.intp)
+
+
+def _round_a_loop(n: int, a: np.ndarray, b: np.ndarray, carried: np.ndarray,
+                  ends: np.ndarray) -> np.ndarray:
+    """Of the pairs (``a[k]``, ``b[k]``) of ``n`` lines, the ``ends`` ones (end to end
+    where the merge loop's blend is no curve) are kept only where the other ``carried``
+    pairs (joined, each carrying on from the other: not side by side) link their two
+    lines anyway: arcs drawn one after another round a loop. An open chain of such arcs (a
+    spiral's turns) is left to the merge loop's own pairing. Other pairs are kept.
+
+    >>> a, b = np.array([0, 1, 0]), np.array([1, 2, 2])  # three arcs round a loop
+    >>> _round_a_loop(3, a, b, np.ones(3, bool), np.ones(3, bool)).tolist()
+    [True, True, True]
+    >>> _round_a_loop(3, a[:2], b[:2], np.ones(2, bool), np.ones(2, bool)).tolist()
+    [False, False]
+    >>> _round_a_loop(2, a[:0], b[:0], np.ones(0, bool), np.ones(0, bool)).tolist()
+    []
+    """
+    keep = np.ones(len(a), dtype=bool)
+    for k in np.flatnonzero(carried & ends).tolist():
+        others = carried.copy()
+        others[k] = False
+        label = component_labels(n, np.stack([a[others], b[others]], axis=1))
+        keep[k] = bool(label[a[k]] == label[b[k]])
+    return keep
 
 
 def half_width(line: Line, work: Work, known) -> float:

@@ -40,7 +40,7 @@ from ..arrays.polylines import (
 from ..params import Tuning
 
 __all__ = [
-    "PROBE_SLACK", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
+    "PROBE_SLACK", "continues", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
 ]
 
 #: a screen before the exact side-by-side test: a pair with fewer of its nine probe points
@@ -105,7 +105,7 @@ class SampledCurve:
         return shapely.points(self.points)
 
 
-def _continues(a: SampledCurve, b: SampledCurve, d_eps: float, cos_max: float) -> bool:
+def continues(a: SampledCurve, b: SampledCurve, d_eps: float, cos_max: float) -> bool:
     """An end of ``a`` near an end of ``b``, ``b`` heading on the way ``a`` was going."""
     for ea, da in ((a.points[0], -a.tangents[0]), (a.points[-1], a.tangents[-1])):
         for eb, db in ((b.points[0], b.tangents[0]), (b.points[-1], -b.tangents[-1])):
@@ -328,7 +328,7 @@ def pair_and_merge_many(pairs: list[tuple[SampledCurve, float, SampledCurve, flo
                 how[k], along[k] = "overlap", s_k
     if end_to_end:
         ends = [k for k in live if how[k] is None
-                and _continues(pairs[k][0], pairs[k][2], d_eps, cos_max)]
+                and continues(pairs[k][0], pairs[k][2], d_eps, cos_max)]
         fresh = [k for k in ends if k not in along]
         if fresh:
             s = _project([ordered[k][0] for k in fresh], [ordered[k][2] for k in fresh])[0]
