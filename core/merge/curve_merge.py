@@ -40,7 +40,8 @@ from ..arrays.polylines import (
 from ..params import Tuning
 
 __all__ = [
-    "PROBE_SLACK", "continues", "pair_and_merge", "pair_and_merge_many", "sample_spacing", "SampledCurve",
+    "PROBE_SLACK", "continues", "pair_and_merge", "pair_and_merge_many", "sample_spacing",
+    "SampledCurve",
 ]
 
 #: a screen before the exact side-by-side test: a pair with fewer of its nine probe points
