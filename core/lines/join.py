@@ -141,8 +141,9 @@ def _close_each_other(pairs: list[tuple[SampledCurve, SampledCurve]], d: float,
 
 def joined_pairs(lines: list[Line], work: Work, known=None) -> np.ndarray:
     """The pairs of lines pass 5 judges one line at ``work.params.epsilon`` (see the
-    module), before the band test: first those the curve-curve merge joins (smaller
-    index first), then those of which the shorter lies along the longer (shorter first).
+    module), before the band test: first those the curve-curve merge joins, or that close
+    a loop (smaller index first), then those of which the shorter lies along the longer
+    (shorter first).
     ``known``: :class:`Judged` by the two lines' pieces (a dict, or the memo's store)."""
     if len(lines) < 2:
         return np.zeros((0, 2), dtype=np.intp)
