@@ -51,6 +51,15 @@ def straightness(points: np.ndarray) -> float:
                  / np.hypot(*np.diff(points, axis=0).T).sum())
 
 
+def test_two_bundles_far_apart_give_two_lines():
+    """Two lines the join finds no pair among (none within d_eps of the other): each its
+    own line (before, the loop test over no pairs failed on an empty array's type)."""
+    out = pen(passes([50, 50], [200, 50], seed=1) + passes([300, 450], [450, 450], seed=2))
+    assert len(out) == 2
+    heights = sorted(float(np.median(s.points[:, 1])) for s in out)
+    np.testing.assert_allclose(heights, [50, 450], atol=2)
+
+
 def test_an_x_of_two_bundles_of_three_passes_gives_two_straight_strokes():
     out = pen(passes([100, 100], [400, 400], seed=1) + passes([100, 400], [400, 100], seed=2))
     assert len(out) == 2
