@@ -110,9 +110,9 @@ def _close_each_other(pairs: list[tuple[SampledCurve, SampledCurve]], d: float,
                       cos_max: float) -> np.ndarray:
     """Whether each pair of open curves closes one loop: each end of each lies within
     ``d`` of the other, and one carries on from each end of the other, heading the way it
-    was going there (a ring drawn as two arcs, overlapping or meeting at both ends). The
-    curve-curve merge pairs one carrying on from one end of the other only; a loop drawn
-    as five arcs ended as two open lines overlapping at both ends."""
+    was going there (a ring drawn as two arcs, overlapping or meeting at both ends): what
+    the curve-curve merge, which pairs one carrying on from one end of the other only,
+    leaves as two open lines overlapping at both ends."""
     if not pairs:
         return np.zeros(0, dtype=bool)
     n = len(pairs)
