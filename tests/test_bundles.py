@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from metrics import turning
+from metrics import turning, whole_lines
 
 from core import SimplifyParams, Sketch, Stroke, simplify
 from core.lines.fit import band_split
@@ -231,3 +231,23 @@ def test_two_tight_bundles_stay_two_where_a_stray_pass_end_crosses_the_band_betw
     assert band_split(bundles, 0.05, 0.1, clear) == ([0, 1, 2], [3, 4, 5])
     wander = [np.hstack([x, 0.012 * np.sin(2 * np.pi * (x + k / 3))]) for k in range(3)]
     assert band_split(wander, 0.05, 0.1, clear) is None
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_two_lines_running_close_then_parting_each_come_out_whole(seed):
+    """A narrow fork: a straight edge, and a curve running 0.6% of the diagonal beside it
+    for half its length and then bending away, each drawn as three passes whose offsets
+    interleave along the stretch they share (no band lies clear between them there): a
+    line that follows each, whole (pass 4 splits off the passes its line leaves)."""
+    rng = np.random.default_rng(seed)
+    x = np.linspace(50, 450, 200)
+    edge = np.stack([x, np.full_like(x, 250.0)], axis=1)
+    bend = np.stack([x, 250 + 0.006 * D + 0.1 * D * np.clip((x - 250) / 200, 0, 1) ** 2],
+                    axis=1)
+    passes = []
+    for curve in (edge, bend):
+        for _ in range(3):
+            wander = 0.001 * D * np.sin(x / 60 + rng.uniform(0, 6))
+            passes.append(curve + np.c_[0 * x, rng.normal(0, 0.003 * D) + wander])
+    out = [s.points for s in lines_of(passes)]
+    assert whole_lines(out, [edge], D) == 1.0 and whole_lines(out, [bend], D) == 1.0
