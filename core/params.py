@@ -130,8 +130,9 @@ class Tuning:
     #: each the width it gets alone"
     member_share: float = 0.5
     #: how far off the middle a loose pass lies (d_eps): ink within it is the line's (pass
-    #: 4), beyond every line's a line of its own (pass 8). decisions: "a piece the fitted
-    #: line leaves from its middle draws another line"
+    #: 4), beyond every line's a line of its own (pass 8); two passes lie within twice it
+    #: of each other, or part (pass 4). decisions: "a piece the fitted line leaves from its
+    #: middle draws another line"; "two passes that run along each other and then part"
     member_reach: float = 1.5
     #: a piece parting from the spine within this many member_reach of its end extends it.
     #: decisions: "Where each tuned number comes from"

@@ -25,7 +25,12 @@ drawing's usual spacing of passes, or than the inks beside it: two tight bundles
 single strokes, drawn close), is split there (:func:`band_split`), each side fitted on its
 own: the width is local, from the group's own ink; but not where it lies in open paper,
 no other ink within a few bands of it, and its sides are not two bundles tighter than the
-band (:func:`one_loose_line`): one loose line, however wide. Then, a piece of which less than
+band (:func:`one_loose_line`): one loose line, however wide. Then a group two of whose
+pieces (a pair of pass 3) run along each other and then part, each going on, is split
+into the parts its pairs make with no such two in one part (:func:`parted`): two close
+lines that part somewhere (a narrow fork, an edge along another for a while), however
+their passes interleave where they run together; not a curl's or a loop's passes, which
+wind in at their own rates. Then, a piece of which less than
 ``tuning.member_share`` lies within ``member_reach`` d_eps of its group's line does not
 draw that line, and is split off; so is a piece the line leaves: it runs along the line
 and then, from the line's middle (at least ``tuning.crumb`` d_eps from either end), away
@@ -50,11 +55,12 @@ from typing import NamedTuple
 import numpy as np
 import shapely
 
-from ..arrays.components import component_labels
+from ..arrays.components import component_labels, kept_apart_labels
 from ..arrays.geometry import Segments, project_on, tangents
 from ..arrays.polylines import arc_lengths, ends_meet, resample_polyline
 from ..curves.bezier import smooth_between_corners
 from ..params import Tuning
+from .along import parting, runs_along
 from .work import Line, Work
 
 __all__ = ["GroupFit", "absorb_lines", "along_pairs", "band_split", "centreline",
@@ -235,45 +241,6 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
     return resample_polyline(spine, h), closed
 
 
-def _members_along(line: np.ndarray, pieces: list[np.ndarray], reach: float,
-                   least: float, closed: bool) -> tuple[np.ndarray, np.ndarray]:
-    """The share of each piece within ``reach`` of ``line``, and whether each leaves it:
-    runs along it and then, from where the line goes on for at least ``least`` (arc
-    length) either way, away from it to the piece's own end, farther than ``reach`` along
-    at least ``least``. A ring is left by none.
-
-    >>> x = np.linspace(0, 1, 41)[:, None]
-    >>> line = np.hstack([x, 0 * x])
-    >>> on = np.hstack([x, 0 * x + 0.01])
-    >>> off = np.hstack([0.5 * x, np.maximum(0, x - 0.5)])  # along to 0.25, then away
-    >>> share, leaves = _members_along(line, [on, off], 0.02, 0.1, False)
-    >>> share.round(2).tolist(), leaves.tolist()
-    ([1.0, 0.51], [False, True])
-    """
-    sizes = np.fromiter(map(len, pieces), dtype=np.intp, count=len(pieces))
-    firsts = np.cumsum(sizes) - sizes
-    lasts = firsts + sizes - 1
-    ink = np.concatenate(pieces)
-    along = project_on(line, ink)
-    near = along.distance <= reach
-    share = np.add.reduceat(near.astype(np.intp), firsts) / sizes
-    if closed:
-        return share, np.zeros(len(pieces), bool)
-    # each piece's first and last sample near the line (every piece with none is not
-    # left: it never ran along), and how far the piece goes on past them to its ends
-    index = np.arange(len(ink))
-    first_near = np.minimum.reduceat(np.where(near, index, len(ink)), firsts)
-    last_near = np.maximum.reduceat(np.where(near, index, -1), firsts)
-    ran = share > 0
-    first_near, last_near = np.where(ran, first_near, firsts), np.where(ran, last_near, lasts)
-    s = arc_lengths(ink, firsts, lasts)
-    leaves = np.zeros(len(pieces), bool)
-    for gone, where in ((s[lasts] - s[last_near], along.at[last_near]),
-                        (s[first_near], along.at[first_near])):
-        leaves |= ran & (gone >= least) & (least <= where) & (where <= along.length - least)
-    return share, leaves
-
-
 def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Which ``points`` lie beside the evenly spaced open ``line`` (within ``reach``, not
@@ -428,12 +395,13 @@ def fitted_centreline(pieces: list[np.ndarray], work: Work) -> tuple[np.ndarray,
 
 class GroupFit(NamedTuple):
     """What :func:`fit_group` finds of one set of pieces before it fits any part of it
-    again: a band that parts them (``sides``, indices into the set), or their line and
-    which of them it keeps (``keep``; None for a single piece). A function of the pieces
-    and the result's params alone, so a slider's replays share it
-    (:class:`core.curves.memo.StrokeMemo`)."""
+    again: the parts a band or parting passes split them into (``sides``, indices into the
+    set; :func:`band_split`, :func:`parted`), or their line and which of them it keeps
+    (``keep``; None for a single piece). A function of the pieces,
+    the pass-3 pairs among them and the result's params alone, so a slider's replays share
+    it (:class:`core.curves.memo.StrokeMemo`)."""
 
-    sides: tuple[list[int], list[int]] | None  #: the two sides of a band, or None
+    sides: tuple[list[int], ...] | None  #: the two sides of a band, the parts, or None
     line: np.ndarray | None  #: the fitted centreline (None where a band parts them)
     closed: bool  #: whether the line is a ring
     keep: np.ndarray | None  #: (pieces,) which pieces the line keeps as members
@@ -442,7 +410,9 @@ class GroupFit(NamedTuple):
 def group_fit(members: list[int], work: Work) -> GroupFit:
     """The :class:`GroupFit` of ``members``, from the work's memo where it has it."""
     store = getattr(work.memo, "groups", None)
-    key = (work.merged, tuple(members))  # at epsilon 0 the pieces are the whole strokes
+    local = _pairs_among(members, work.pairs)  # they differ from one epsilon to the next
+    # at epsilon 0 the pieces are the whole strokes
+    key = (work.merged, tuple(members), local.tobytes())
     got = store.get(key) if store is not None else None
     if got is not None:
         return got
@@ -459,6 +429,8 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
                 band, spread, bundles, ink, members, work)
 
         sides = band_split(pieces, reach, work.d, parts, t.along_share, t.band_samples)
+        if sides is None:
+            sides = parted(members, local, work)
     if sides is not None:
         got = GroupFit(sides, None, False, None)
     else:
@@ -466,7 +438,7 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
         line.flags.writeable = False  # shared by every replay that asks for it
         keep = None
         if len(members) > 1:
-            share, leaves = _members_along(line, pieces, reach, t.crumb * work.d, closed)
+            share, leaves = runs_along(line, pieces, reach, t.crumb * work.d, closed)
             keep = (share >= t.member_share) & ~leaves
             keep.flags.writeable = False
         got = GroupFit(None, line, closed, keep)
@@ -493,19 +465,52 @@ def fit_group(members: list[int], work: Work) -> list[Line]:
                   for line in fit_group(rest, work)]
 
 
-def components(members: list[int], pairs: np.ndarray | None) -> list[list[int]]:
-    """``members`` split into the connected components of the ``pairs`` among them."""
+def _pairs_among(members: list[int], pairs: np.ndarray | None) -> np.ndarray:
+    """The ``pairs`` whose two pieces are both ``members``, as indices into ``members``,
+    in their order."""
     if pairs is None or len(members) < 2:
-        return [[m] for m in members]
+        return np.zeros((0, 2), dtype=np.intp)
     index = {m: k for k, m in enumerate(members)}
     inside = np.isin(pairs, members).all(axis=1)
-    local = np.vectorize(index.get, otypes=[np.intp])(pairs[inside]) if inside.any() else \
+    return np.vectorize(index.get, otypes=[np.intp])(pairs[inside]) if inside.any() else \
         np.zeros((0, 2), dtype=np.intp)
-    labels = component_labels(len(members), local).tolist()
+
+
+def _labelled(members: list[int], labels) -> list[list[int]]:
     out: dict[int, list[int]] = {}
     for m, label in zip(members, labels):
         out.setdefault(label, []).append(m)
     return list(out.values())
+
+
+def components(members: list[int], pairs: np.ndarray | None) -> list[list[int]]:
+    """``members`` split into the connected components of the ``pairs`` among them."""
+    if pairs is None or len(members) < 2:
+        return [[m] for m in members]
+    return _labelled(members, component_labels(len(members), _pairs_among(members, pairs)
+                                               ).tolist())
+
+
+def parted(members: list[int], local: np.ndarray, work: Work
+           ) -> tuple[list[int], ...] | None:
+    """``members`` (indices of pieces) split where two of them run along each other and
+    then part, each going on (:func:`core.lines.along.parting`, of the pass-3 pairs among
+    them, ``local``, as indices into ``members``, those sharing most first), as indices
+    into ``members``: the components of those pairs joined pair by
+    pair, those sharing most first, a pair skipped where it would put two parting pieces
+    in one part (a short pass along both would chain them). None where no two part. Two
+    passes of one line lie within a loose pass's reach of its middle, either side of it:
+    they part only farther than twice ``member_reach`` apart."""
+    if not len(local):
+        return None
+    t = work.tuning
+    apart = parting([work.pieces[m] for m in members], local, 2 * t.member_reach * work.d,
+                    t.crumb * work.d)
+    if not apart.any():
+        return None
+    parts = _labelled(list(range(len(members))),
+                      kept_apart_labels(len(members), local, apart).tolist())
+    return tuple(parts) if len(parts) > 1 else None
 
 
 def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
