@@ -90,6 +90,9 @@ class StrokeMemo:
     #: same in every replay above epsilon 0
     groups: LruStore[tuple[bool, tuple[int, ...]], object] = field(
         default_factory=lambda: LruStore(GROUP_ENTRIES))
+    #: whether two pieces run along each other and then part (pass 4,
+    #: :func:`core.lines.along.parting`), by whether anything merged and their indices
+    parting: LruStore[tuple[bool, int, int], bool] = field(default_factory=LruStore)
     #: pass 1's pieces, the input stroke and place in it of each, by whether anything
     #: merged: a function of the strokes and the result's params alone
     pieces: LruStore[bool, tuple] = field(default_factory=lambda: LruStore(2))

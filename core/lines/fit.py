@@ -397,30 +397,45 @@ class GroupFit(NamedTuple):
     """What :func:`fit_group` finds of one set of pieces before it fits any part of it
     again: the parts a band or parting passes split them into (``sides``, indices into the
     set; :func:`band_split`, :func:`parted`), or their line and which of them it keeps
-    (``keep``; None for a single piece). A function of the pieces,
-    the pass-3 pairs among them and the result's params alone, so a slider's replays share
-    it (:class:`core.curves.memo.StrokeMemo`)."""
+    (``keep``; None for a single piece). The band and the line are a function of the
+    pieces and the result's params alone, so a slider's replays share them
+    (:class:`core.curves.memo.StrokeMemo`); the parts, of the pass-3 pairs among them too
+    (each pair's parting kept in the memo)."""
 
     sides: tuple[list[int], ...] | None  #: the two sides of a band, the parts, or None
-    line: np.ndarray | None  #: the fitted centreline (None where a band parts them)
+    line: np.ndarray | None  #: the fitted centreline (None where they are split)
     closed: bool  #: whether the line is a ring
     keep: np.ndarray | None  #: (pieces,) which pieces the line keeps as members
 
 
 def group_fit(members: list[int], work: Work) -> GroupFit:
-    """The :class:`GroupFit` of ``members``, from the work's memo where it has it."""
-    store = getattr(work.memo, "groups", None)
+    """The :class:`GroupFit` of ``members``: a band's sides, else the parts where two of
+    them part (:func:`parted`), else their line; what depends on the pieces alone from
+    the work's memo where it has it."""
     local = _pairs_among(members, work.pairs)  # they differ from one epsilon to the next
-    # at epsilon 0 the pieces are the whole strokes
-    key = (work.merged, tuple(members), local.tobytes())
+    split = parted(members, local, work)
+    store = getattr(work.memo, "groups", None)
+    key = (work.merged, tuple(members))  # at epsilon 0 the pieces are the whole strokes
     got = store.get(key) if store is not None else None
-    if got is not None:
-        return got
+    if got is None or (got.sides is None and got.line is None and split is None):
+        got = _band_or_line(members, work, line=split is None, known=got)
+        if store is not None:
+            store.put(key, got)
+    if got.sides is None and split is not None:
+        return GroupFit(split, None, False, None)
+    return got
+
+
+def _band_or_line(members: list[int], work: Work, line: bool, known: GroupFit | None
+                  ) -> GroupFit:
+    """What of :class:`GroupFit` depends on the pieces alone: the sides of a band that
+    parts them, else, where ``line`` is asked for, their line and the members it keeps
+    (else none yet). ``known``: what was found before without the line."""
     t = work.tuning
     reach = t.member_reach * work.d
     pieces = [work.pieces[k] for k in members]
     sides = None
-    if len(members) > 1:
+    if known is None and len(members) > 1:
         ink = np.concatenate(pieces)  # the group's ink, asked about at every cut
 
         def parts(band: float, spread: float, cut: tuple[np.ndarray, np.ndarray]) -> bool:
@@ -429,22 +444,18 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
                 band, spread, bundles, ink, members, work)
 
         sides = band_split(pieces, reach, work.d, parts, t.along_share, t.band_samples)
-        if sides is None:
-            sides = parted(members, local, work)
     if sides is not None:
-        got = GroupFit(sides, None, False, None)
-    else:
-        line, closed = fitted_centreline(pieces, work)
-        line.flags.writeable = False  # shared by every replay that asks for it
-        keep = None
-        if len(members) > 1:
-            share, leaves = runs_along(line, pieces, reach, t.crumb * work.d, closed)
-            keep = (share >= t.member_share) & ~leaves
-            keep.flags.writeable = False
-        got = GroupFit(None, line, closed, keep)
-    if store is not None:
-        store.put(key, got)
-    return got
+        return GroupFit(sides, None, False, None)
+    if not line:
+        return GroupFit(None, None, False, None)
+    fitted, closed = fitted_centreline(pieces, work)
+    fitted.flags.writeable = False  # shared by every replay that asks for it
+    keep = None
+    if len(members) > 1:
+        share, leaves = runs_along(fitted, pieces, reach, t.crumb * work.d, closed)
+        keep = (share >= t.member_share) & ~leaves
+        keep.flags.writeable = False
+    return GroupFit(None, fitted, closed, keep)
 
 
 def fit_group(members: list[int], work: Work) -> list[Line]:
@@ -496,21 +507,44 @@ def parted(members: list[int], local: np.ndarray, work: Work
     """``members`` (indices of pieces) split where two of them run along each other and
     then part, each going on (:func:`core.lines.along.parting`, of the pass-3 pairs among
     them, ``local``, as indices into ``members``, those sharing most first), as indices
-    into ``members``: the components of those pairs joined pair by
-    pair, those sharing most first, a pair skipped where it would put two parting pieces
-    in one part (a short pass along both would chain them). None where no two part. Two
-    passes of one line lie within a loose pass's reach of its middle, either side of it:
-    they part only farther than twice ``member_reach`` apart."""
+    into ``members``: the components of those pairs joined pair by pair, a pair skipped
+    where it would put two parting pieces in one part (a short pass along both would
+    chain them). None where no two part."""
     if not len(local):
         return None
-    t = work.tuning
-    apart = parting([work.pieces[m] for m in members], local, 2 * t.member_reach * work.d,
-                    t.crumb * work.d)
+    apart = _parting_of(np.asarray(members, dtype=np.intp)[local], work)
     if not apart.any():
         return None
     parts = _labelled(list(range(len(members))),
                       kept_apart_labels(len(members), local, apart).tolist())
     return tuple(parts) if len(parts) > 1 else None
+
+
+def _parting_of(pairs: np.ndarray, work: Work) -> np.ndarray:
+    """Whether the two pieces of each of ``pairs`` (indices of pieces) part, from the
+    work's memo where it has it (a function of the two pieces alone). Two passes of one
+    line lie within a loose pass's reach of its middle, either side of it: they part only
+    farther than twice ``member_reach`` apart."""
+    store = getattr(work.memo, "parting", None)
+    out = np.zeros(len(pairs), bool)
+    todo = []
+    for k, (a, b) in enumerate(pairs.tolist()):
+        got = store.get((work.merged, a, b)) if store is not None else None
+        if got is None:
+            todo.append(k)
+        else:
+            out[k] = got
+    if todo:
+        asked = pairs[todo]
+        used, local = np.unique(asked, return_inverse=True)
+        t = work.tuning
+        found = parting([work.pieces[g] for g in used.tolist()], local.reshape(-1, 2),
+                        2 * t.member_reach * work.d, t.crumb * work.d)
+        out[todo] = found
+        if store is not None:
+            for (a, b), got in zip(asked.tolist(), found.tolist()):
+                store.put((work.merged, a, b), got)
+    return out
 
 
 def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
