@@ -412,17 +412,23 @@ def group_fit(members: list[int], work: Work) -> GroupFit:
     """The :class:`GroupFit` of ``members``: a band's sides, else the parts where two of
     them part (:func:`parted`), else their line; what depends on the pieces alone from
     the work's memo where it has it."""
-    local = _pairs_among(members, work.pairs)  # they differ from one epsilon to the next
-    split = parted(members, local, work)
     store = getattr(work.memo, "groups", None)
     key = (work.merged, tuple(members))  # at epsilon 0 the pieces are the whole strokes
     got = store.get(key) if store is not None else None
-    if got is None or (got.sides is None and got.line is None and split is None):
-        got = _band_or_line(members, work, line=split is None, known=got)
+    if got is None:
+        got = _band_or_line(members, work, line=False, known=None)
         if store is not None:
             store.put(key, got)
-    if got.sides is None and split is not None:
+    if got.sides is not None:
+        return got
+    # the pass-3 pairs among them differ from one epsilon to the next
+    split = parted(members, _pairs_among(members, work.pairs), work)
+    if split is not None:
         return GroupFit(split, None, False, None)
+    if got.line is None:
+        got = _band_or_line(members, work, line=True, known=got)
+        if store is not None:
+            store.put(key, got)
     return got
 
 
