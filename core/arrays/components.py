@@ -3,10 +3,25 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from functools import partial
 
 import numpy as np
 
 __all__ = ["component_labels", "kept_apart_labels"]
+
+
+def _root(parent: list[int], a: int) -> int:
+    """The root of ``a`` in the union-find forest ``parent``, halving the path to it."""
+    while parent[a] != a:
+        parent[a] = parent[parent[a]]
+        a = parent[a]
+    return a
+
+
+def _labels(parent: list[int]) -> np.ndarray:
+    """Each item's component as 0..k-1, numbered in order of each one's smallest item."""
+    roots = np.array([_root(parent, a) for a in range(len(parent))], dtype=np.intp)
+    return np.unique(roots, return_inverse=True)[1]
 
 
 def component_labels(n: int, pairs: np.ndarray | Iterable[np.ndarray]) -> np.ndarray:
@@ -17,21 +32,14 @@ def component_labels(n: int, pairs: np.ndarray | Iterable[np.ndarray]) -> np.nda
     smallest item.
     """
     parent = list(range(n))
-
-    def find(a: int) -> int:
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
+    find = partial(_root, parent)
     chunks = [pairs] if isinstance(pairs, np.ndarray) else pairs
     for chunk in chunks:
         for a, b in np.asarray(chunk, dtype=np.intp).reshape(-1, 2).tolist():
             ra, rb = find(a), find(b)
             if ra != rb:
                 parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(a) for a in range(n)], dtype=np.intp)
-    return np.unique(roots, return_inverse=True)[1]
+    return _labels(parent)
 
 
 def kept_apart_labels(n: int, pairs: np.ndarray, apart: np.ndarray) -> np.ndarray:
@@ -55,13 +63,7 @@ def kept_apart_labels(n: int, pairs: np.ndarray, apart: np.ndarray) -> np.ndarra
     for a, b in pairs[apart].tolist():
         avoid.setdefault(a, set()).add(b)
         avoid.setdefault(b, set()).add(a)
-
-    def find(a: int) -> int:
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
+    find = partial(_root, parent)
     for a, b in pairs[~apart].tolist():
         ra, rb = find(a), find(b)
         if ra == rb:
@@ -74,5 +76,4 @@ def kept_apart_labels(n: int, pairs: np.ndarray, apart: np.ndarray) -> np.ndarra
         if held_a or held_b:
             avoid[root] = set(held_a) | set(held_b)
             avoid.pop(other, None)
-    roots = np.array([find(a) for a in range(n)], dtype=np.intp)
-    return np.unique(roots, return_inverse=True)[1]
+    return _labels(parent)

@@ -1,6 +1,6 @@
-"""How one polyline runs along another (passes 3 and 4): the share of a piece that lies
-along a line, and whether it leaves the line from the line's middle; two pieces that run
-along each other and then part, both going on, are passes of two lines (pass 3).
+"""How one polyline runs along another (pass 4): the share of a piece that lies along a
+line, and whether it leaves the line from the line's middle; two pieces that run along
+each other and then part, both going on, are passes of two lines.
 """
 
 from __future__ import annotations
