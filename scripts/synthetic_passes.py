@@ -2,13 +2,19 @@
 is known exactly, a loss is the simplification's, not the reference's.
 
     python scripts/synthetic_passes.py OUT.json [--root TREE] [--jobs N] [--data DIR]
-                                       [--param NAME=VALUE,...]
+                                       [--param NAME=VALUE,...] [--kind KIND]
 
-The clean curves are the lift3d designers' ``full_fit.scap`` curves of ``../shared/data``
-(read in place, never copied). Each curve is drawn again as 2 to 4 passes: each pass
-offset from it by a constant (sigma 0.4% of the diagonal D), a slow wander (0.3% D,
-wavelength 10-30% D) and a tremor (0.05% D), its ends trimmed by up to 2% D or run on by
-up to 2% D along the curve's tangent; the seed is the file's path, so a run is repeatable.
+The clean curves (``--kind``) are the lift3d designers' ``full_fit.scap`` curves of
+``../shared/data`` (``product``, read in place, never copied), or drawings made here from
+the Hershey single-stroke fonts (the ``Hershey-Fonts`` package, MIT; a dev dependency):
+``handwriting``, two lines of cursive words (the ``scripts`` font, its coarse polylines
+rounded by Chaikin's corner cutting), and ``icons``, four marker shapes side by side
+(circles, boxes, triangles, stars, arrows: the ``markers`` font, corners kept), close
+enough to be one drawing (not a page of drawings, each at its own size). Each curve is
+drawn again as 2 to 4 passes: each pass offset from it by a constant (sigma 0.4% of the
+diagonal D), a slow wander (0.3% D, wavelength 10-30% D) and a tremor (0.05% D), its ends
+trimmed by up to 2% D or run on by up to 2% D along the curve's tangent; the seed is the
+file's path (or the drawing's kind and number), so a run is repeatable.
 The measures (``scripts/metrics.py``): whole lines of the output, of the passes
 themselves and of one median fit per curve's passes (``cluster_reference`` given the true
 labels: where the ceiling is); the grouping's pair precision and recall against the true
@@ -90,20 +96,86 @@ def rough_passes(curves: list[np.ndarray], diagonal: float, seed: int,
     return out, labels
 
 
+#: the words the handwriting is written with, and how many drawings each Hershey kind has
+WORDS = ["hello", "dog", "bumps", "quiet", "lovely", "sketch", "drawing", "flower", "bubble",
+         "cycle", "kitten", "gallop", "whisper", "needle", "apple", "jolly", "boulevard",
+         "office", "muddle", "zigzag"]
+DRAWINGS = 20
+#: the margin round a Hershey drawing, and the spacing of icons, in font units (a glyph
+#: is about 20 tall, a marker 14 across)
+MARGIN, SPACING = 6.0, 20.0
+
+
+def chaikin(points: np.ndarray, rounds: int = 2) -> np.ndarray:
+    """Chaikin's corner cutting, ends kept: a coarse polyline rounded into a smooth curve.
+
+    >>> chaikin(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]), 1).tolist()
+    [[0.0, 0.0], [0.75, 0.0], [1.0, 0.25], [1.0, 1.0]]
+    """
+    for _ in range(rounds):
+        if len(points) < 3:
+            return points
+        q = 0.75 * points[:-1] + 0.25 * points[1:]
+        r = 0.25 * points[:-1] + 0.75 * points[1:]
+        cut = np.stack([q, r], axis=1).reshape(-1, 2)[1:-1]
+        points = np.vstack([points[:1], cut, points[-1:]])
+    return points
+
+
+def hershey_drawing(kind: str, index: int) -> tuple[list[np.ndarray], float, float]:
+    """The clean curves of drawing ``index`` of a Hershey ``kind`` (see the module), laid
+    on a canvas with a margin: the curves, the canvas's width and height."""
+    from HersheyFonts import HersheyFonts
+
+    rng = np.random.default_rng(zlib.crc32(f"{kind}/{index}".encode()))
+    font = HersheyFonts()
+    curves = []
+    if kind == "handwriting":
+        font.load_default_font("scripts")
+        for row in range(2):
+            words = " ".join(rng.choice(WORDS, 2, replace=False))
+            curves += [chaikin(np.asarray(s, float)) + [0.0, 32.0 * row]
+                       for s in font.strokes_for_text(words)]
+    elif kind == "icons":
+        font.load_default_font("markers")
+        shapes = [c for c in font.all_glyphs if font.all_glyphs[c].strokes and c != " "]
+        for cell in range(4):
+            glyph = font.all_glyphs[shapes[int(rng.integers(len(shapes)))]]
+            at = np.array([SPACING * (cell % 2), SPACING * (cell // 2)])
+            curves += [np.asarray(s, float) + at for s in glyph.strokes]
+    else:
+        raise ValueError(f"no Hershey drawings of kind {kind!r}")
+    curves = [c for c in curves if len(c) >= 2 and np.ptp(c, axis=0).max() > 0]
+    corner = np.vstack(curves).min(axis=0) - MARGIN
+    curves = [c - corner for c in curves]
+    size = np.vstack(curves).max(axis=0) + MARGIN
+    return curves, float(size[0]), float(size[1])
+
+
+def clean_curves(source: str) -> tuple[list[np.ndarray], float, float]:
+    """The clean curves of ``source`` (a ``full_fit.scap`` path, or ``KIND/INDEX`` of a
+    Hershey kind) and its canvas's width and height."""
+    kind, _, index = source.partition("/")
+    if kind in ("handwriting", "icons") and index.isdigit():
+        return hershey_drawing(kind, int(index))
+    from core import read_sketch
+
+    clean = read_sketch(source)
+    return [s.points for s in clean.strokes if len(s.points) >= 2], clean.width, clean.height
+
+
 def score_one(args: tuple[str, str, dict, float]) -> tuple[str, dict]:
     root, path, options, offset = args
     use_checkout(root)
     import metrics
 
-    from core import SimplifyParams, Sketch, Stroke, read_sketch, simplify
+    from core import SimplifyParams, Sketch, Stroke, simplify
 
-    clean = read_sketch(path)
-    reference = [s.points for s in clean.strokes if len(s.points) >= 2]
-    diagonal = float(np.hypot(clean.width, clean.height))
+    reference, width, height = clean_curves(path)
+    diagonal = float(np.hypot(width, height))
     ink, labels = rough_passes(reference, diagonal,
                                zlib.crc32(Path(path).as_posix().encode()), offset)
-    sketch = Sketch([Stroke(p, source_id=k) for k, p in enumerate(ink)], clean.width,
-                    clean.height)
+    sketch = Sketch([Stroke(p, source_id=k) for k, p in enumerate(ink)], width, height)
     result = simplify(sketch, SimplifyParams(**options))
     out = [s.points for s in result.strokes]
     precision, recall = metrics.pair_precision_recall(np.array(input_groups(sketch, result)),
@@ -127,8 +199,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--param", default="", help="options to change, as name=value,...")
     ap.add_argument("--offset", type=float, default=OFFSET,
                     help="sigma of a pass's constant offset (fraction of D)")
+    ap.add_argument("--kind", choices=("product", "handwriting", "icons"), default="product",
+                    help="where the clean curves come from (see the module)")
     args = ap.parse_args(argv)
-    files = sorted(str(p) for p in args.data.resolve().rglob("full_fit.scap"))
+    if args.kind != "product":
+        files = [f"{args.kind}/{k}" for k in range(DRAWINGS)]
+    else:
+        files = sorted(str(p) for p in args.data.resolve().rglob("full_fit.scap"))
     if not files:
         print(f"no lift3d references under {args.data}: nothing to score")
         return 0

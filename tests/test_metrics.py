@@ -135,3 +135,27 @@ def test_the_scorers_examples_hold():
 
     result = doctest.testmod(metrics, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted >= 10 and result.failed == 0
+
+
+def test_the_synthetic_drawings_examples_hold():
+    """The examples in synthetic_passes.py's docstrings (the rough passes, Chaikin)."""
+    import doctest
+
+    import synthetic_passes
+
+    result = doctest.testmod(synthetic_passes, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted >= 3 and result.failed == 0
+
+
+@pytest.mark.parametrize("kind", ["handwriting", "icons"])
+def test_a_hershey_drawing_is_the_same_every_time_and_lies_on_its_canvas(kind):
+    pytest.importorskip("HersheyFonts")
+    from synthetic_passes import hershey_drawing
+
+    curves, width, height = hershey_drawing(kind, 3)
+    again, *_ = hershey_drawing(kind, 3)
+    other, *_ = hershey_drawing(kind, 4)
+    ink = np.vstack(curves)
+    assert len(curves) >= 4 and all(np.array_equal(a, b) for a, b in zip(curves, again))
+    assert not all(len(a) == len(b) and np.array_equal(a, b) for a, b in zip(curves, other))
+    assert ink.min() > 0 and (ink.max(axis=0) < [width, height]).all()
