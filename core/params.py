@@ -123,6 +123,13 @@ class Tuning:
     shared_length: float = 2.0
     #: ... overlapping, or at most this many d_eps apart (pass 3). decisions: "the pen stage"
     shared_gap: float = 1.0
+    #: a stroke of which this share lies within twin_reach d_eps of another stroke, as
+    #: that share of the other lies within twin_reach of it, is a pass of the other's line,
+    #: drawn again whole, and is not cut at its corners (pass 1). decisions: "a stroke drawn
+    #: again whole is not cut at its corners"
+    twin_share: float = 0.8
+    #: ... (pass 1). decisions: "a stroke drawn again whole is not cut at its corners"
+    twin_reach: float = 1.0
 
     # -- the lines: a group's fit and its checks (passes 4, 8) --
     #: a piece stays in its group where this share of it lies within member_reach of the

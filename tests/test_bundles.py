@@ -251,3 +251,30 @@ def test_two_lines_running_close_then_parting_each_come_out_whole(seed):
             passes.append(curve + np.c_[0 * x, rng.normal(0, 0.003 * D) + wander])
     out = [s.points for s in lines_of(passes)]
     assert whole_lines(out, [edge], D) == 1.0 and whole_lines(out, [bend], D) == 1.0
+
+
+def star(points: int, outer: float, inner: float) -> np.ndarray:
+    """A closed star round the canvas's middle, its first point repeated last."""
+    a = -np.pi / 2 + np.arange(2 * points + 1) * np.pi / points
+    r = np.where(np.arange(2 * points + 1) % 2 == 0, outer, inner)
+    return np.stack([250 + r * np.cos(a), 250 + r * np.sin(a)], axis=1)
+
+
+@pytest.mark.parametrize("shape", ["box", "star"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_shape_with_corners_drawn_round_three_times_is_one_closed_line_with_its_corners(
+        shape, seed):
+    """A box, or a five-pointed star (its tips 36 degrees), each pass drawn whole round
+    it, the passes 0.4% of the diagonal apart: one closed line (the passes are one line,
+    corners and all, not legs cut at each corner and joined again where the cuts
+    agree), every corner within 0.6% of the diagonal of it (the scorer's tolerance; the
+    line is not smoothed round its corners)."""
+    drawn = star(5, 200, 80) if shape == "star" else np.array(
+        [[100, 100], [400, 100], [400, 350], [100, 350], [100, 100.0]])
+    rng = np.random.default_rng(seed)
+    passes = [resample(drawn, 2.0) + k * 0.004 * D / np.sqrt(2) + rng.normal(0, 0.3, (1, 2))
+              for k in (-1, 0, 1)]
+    out = lines_of([p + rng.normal(0, 0.2, p.shape) for p in passes])
+    assert len(out) == 1 and out[0].closed
+    line = shapely.LineString(out[0].points)
+    assert max(line.distance(shapely.Point(q)) for q in drawn) < 0.006 * D

@@ -10,8 +10,9 @@ kept, not chained from the pieces.
 The passes, in order (each a module with one job; :data:`PASSES` names them):
 
 1. ``pieces``: each input stroke resampled and cut where it turns sharply (a corner drawn
-   in one motion is two lines; a small round shape, turning on beyond, is not): the pen
-   strokes, the unit of grouping.
+   in one motion is two lines; a small round shape, turning on beyond, is not; nor is a
+   stroke another stroke lies along whole, a shape drawn round again): the pen strokes,
+   the unit of grouping.
 2. ``follow``: which alive curve of the simplified complex each sample of a piece runs
    along, and where along it.
 3. ``group``: pieces that follow one alive curve along enough of their length (and

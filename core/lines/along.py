@@ -1,16 +1,53 @@
-"""How one polyline runs along another (pass 4): the share of a piece that lies along a
-line, and whether it leaves the line from the line's middle; two pieces that run along
-each other and then part, both going on, are passes of two lines.
+"""How one polyline runs along another: two strokes each lying along the other whole are
+passes of one line (pass 1); the share of a piece that lies along a line, and whether it
+leaves the line from the line's middle; two pieces that run along each other and then
+part, both going on, are passes of two lines (pass 4).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..arrays.geometry import project_on
+from ..arrays.geometry import Reached, project_on
 from ..arrays.polylines import arc_lengths
 
-__all__ = ["parting", "runs_along"]
+__all__ = ["parting", "runs_along", "twin_pairs"]
+
+
+def twin_pairs(polylines: list[np.ndarray], reach: float, share: float, spacing: float
+               ) -> np.ndarray:
+    """(k, 2) pairs of ``polylines`` (indices, the smaller first) that each lie along the
+    other, passes of one line: at least ``share`` of each one's samples (every
+    ``spacing``) within ``reach`` of the other as drawn (pass 1). A short pass along part
+    of a long one is not a twin of it; two lines drawn once each, closer than ``reach``
+    all along, are (the reach is the bundle's own width).
+
+    >>> x = np.linspace(0, 1, 21)[:, None]
+    >>> a, b, c = np.hstack([x, 0 * x]), np.hstack([x, 0.01 + 0 * x]), np.hstack([x / 2, x])
+    >>> twin_pairs([a, b, c], 0.02, 0.8, 0.05).tolist()  # c crosses a and b, along neither
+    [[0, 1]]
+    >>> twin_pairs([a, b[:8]], 0.02, 0.8, 0.05).tolist()  # b along a third of a only
+    []
+    """
+    n = len(polylines)
+    none = np.zeros((0, 2), dtype=np.intp)
+    if n < 2:
+        return none
+    reached = Reached.of(polylines, polylines, reach, spacing)
+    other = reached.line
+    keep = reached.polyline[reached.sample] != other
+    # each sample counted once for each other polyline it lies within reach of
+    key = np.unique(reached.sample[keep].astype(np.int64) * n + other[keep])
+    pair, counts = np.unique(reached.polyline[key // n].astype(np.int64) * n + key % n,
+                             return_counts=True)
+    if not len(pair):
+        return none
+    shares = counts / np.maximum(reached.count[pair // n], 1)
+    a, b = pair // n, pair % n
+    at = np.minimum(np.searchsorted(pair, b * n + a), len(pair) - 1)
+    back = np.where(pair[at] == b * n + a, shares[at], 0.0)  # the other way round
+    mutual = (a < b) & (shares >= share) & (back >= share)
+    return np.stack([a[mutual], b[mutual]], axis=1).astype(np.intp)
 
 
 def runs_along(line: np.ndarray, pieces: list[np.ndarray], reach: float,

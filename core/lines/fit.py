@@ -11,10 +11,12 @@ meet, within ``member_reach`` and a ``tuning.loop_length``-th of its length: a s
 drawn whole). Then, twice, the spine is moved to the median of the ink's offsets
 from it, taken in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the
 line off the others), and the line so moved is smoothed over ``tuning.smooth`` d_eps
-(:func:`core.curves.bezier.smooth_between_corners`): the line runs through the middle of
-the passes, and ends where the ink ends. The line is smoothed, not the offsets alone: the
-spine is one pass, and a line made of it plus smoothed offsets would keep that pass's own
-wander at every scale the smoothing takes out of the offsets. A group of one piece is
+(:func:`core.curves.bezier.smooth_between_corners`) between the spine's corners (where it
+turns as pass 1 cuts a stroke, not at a flick near its end: a shape drawn round again
+keeps its corners): the line runs through the middle of the passes, and ends where the ink
+ends. The line is smoothed, not the offsets alone: the spine is one pass, and a line made
+of it plus smoothed offsets would keep that pass's own wander at every scale the smoothing
+takes out of the offsets. A group of one piece is
 that piece, resampled: there is no other ink to move it to (pass 10 smooths it as it
 smooths every line).
 
@@ -58,7 +60,7 @@ import shapely
 from ..arrays.components import component_labels, kept_apart_labels
 from ..arrays.geometry import Segments, project_on, tangents
 from ..arrays.polylines import arc_lengths, ends_meet, resample_polyline
-from ..curves.bezier import smooth_between_corners
+from ..curves.bezier import corner_indices, smooth_between_corners
 from ..params import Tuning
 from .along import parting, runs_along
 from .work import Line, Work
@@ -196,6 +198,7 @@ def _bin_stats(bins: np.ndarray, values: np.ndarray, n: int
 def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: float,
                smooth: float, *, end_zone: float = Tuning.end_zone,
                loop_length: float = Tuning.loop_length, corner: float = Tuning.cut_angle,
+               corner_reach: float = 0.0, round_share: float = Tuning.round_share,
                rounds: int = 2
                ) -> tuple[np.ndarray, bool]:
     """The line through the middle of ``pieces`` (see the module), evenly spaced by ``h``,
@@ -233,12 +236,34 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
         moved = line + normal * mean[:, None]  # the line through the middle of the ink
         if closed:
             moved[-1] = moved[0]
-        spine = smooth_between_corners(moved, smooth / (length / (n - 1)), [], closed)
+        corners = _corners(line, corner, corner_reach, round_share, closed)
+        spine = smooth_between_corners(moved, smooth / (length / (n - 1)), corners, closed)
         if closed:  # a ring comes back with its first point repeated last
             spine = spine[:-1]
     if closed:
         spine = np.concatenate([spine, spine[:1]])
     return resample_polyline(spine, h), closed
+
+
+def _corners(line: np.ndarray, angle: float, reach: float, round_share: float,
+             closed: bool) -> list[int]:
+    """Where the evenly spaced ``line`` turns as pass 1 cuts a stroke (more than ``angle``
+    within ``reach`` each side, not round): the pen's corners, which the centreline keeps.
+    Not within ``reach`` of an open line's ends: a turn read on a leg shorter than the
+    test's window is a flick of the pen (a hook), not a corner (none with ``reach`` 0).
+
+    >>> x = np.linspace(0, 1, 41)
+    >>> ell = np.concatenate([np.c_[x, 0 * x], np.c_[1 + 0 * x[1:], x[1:]]])
+    >>> _corners(ell, 70, 0.1, 0.5, False), _corners(ell[:44], 70, 0.1, 0.5, False)
+    ([40], [])
+    """
+    if reach <= 0:
+        return []
+    found = corner_indices(line, angle, reach, round_share)
+    if closed or not found:
+        return found
+    s = arc_lengths(line)
+    return [k for k in found if reach <= s[k] <= s[-1] - reach]
 
 
 def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
@@ -390,7 +415,8 @@ def fitted_centreline(pieces: list[np.ndarray], work: Work) -> tuple[np.ndarray,
     t = work.tuning
     return centreline(pieces, t.member_reach * work.d, work.h, t.bin * work.d,
                       t.smooth * work.d, end_zone=t.end_zone, loop_length=t.loop_length,
-                      corner=t.cut_angle)
+                      corner=t.cut_angle, corner_reach=t.cut_reach * work.d,
+                      round_share=t.round_share)
 
 
 class GroupFit(NamedTuple):

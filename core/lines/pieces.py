@@ -3,7 +3,12 @@
 ``tuning.cut_reach`` d_eps each side: a corner drawn in one motion is two lines, which may
 belong to two different groups (but a small round shape, turning on the same way beyond,
 is no corner: ``tuning.round_share``); and where it comes back along its own earlier ink (a
-ring drawn round several times, a line drawn back over itself), each turn a piece.
+ring drawn round several times, a line drawn back over itself), each turn a piece. A
+stroke that another stroke lies along whole, as it lies along the other (within
+``tuning.twin_reach`` d_eps along ``tuning.twin_share`` of each: a shape drawn round
+again, a letter written over), is not cut at its corners: the two are passes of one line,
+corners and all, fitted whole (pass 4 keeps the corners), not legs that pass 7 joins
+again only where every pass was cut alike.
 Invariant: the pieces of a stroke, in order, are the
 whole stroke (each cut point ends one piece and starts the next); at epsilon 0 (nothing
 merged) each stroke is one piece, so that it comes back whole."""
@@ -16,6 +21,7 @@ from ..arrays.geometry import Segments, tangents
 from ..arrays.polylines import arc_lengths, resample_polyline
 from ..curves.bezier import corner_indices
 from ..params import Tuning
+from .along import twin_pairs
 from .work import Work
 
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
@@ -114,8 +120,24 @@ def run(work: Work) -> Work:
     return work.with_(pieces=list(pieces), piece_stroke=owner, piece_index=index)
 
 
+def _twins(work: Work) -> np.ndarray:
+    """(n,) whether each input stroke has a twin: another stroke that, whole, lies along it
+    as it lies along the other (:func:`core.lines.along.twin_pairs`); none at epsilon 0."""
+    twin = np.zeros(len(work.strokes), bool)
+    drawn = [k for k, s in enumerate(work.strokes) if len(s) >= 2 and arc_lengths(s)[-1] > 0]
+    if work.merged and len(drawn) >= 2:
+        pairs = twin_pairs([work.strokes[k] for k in drawn], work.tuning.twin_reach * work.d,
+                           work.tuning.twin_share, work.h)
+        twin[np.asarray(drawn, dtype=np.intp)[pairs.ravel()]] = True
+    return twin
+
+
 def _cut(work: Work) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
-    """The pieces of every input stroke, the stroke of each and its place in it."""
+    """The pieces of every input stroke, the stroke of each and its place in it. A stroke
+    with a twin (:func:`_twins`) is not cut at its corners: both are passes of one line,
+    corners and all, and its legs have their group already (its twin's); it is cut only
+    where it comes back over itself."""
+    bundled = _twins(work)
     pieces, owner, index = [], [], []
     for k, stroke in enumerate(work.strokes):
         if len(stroke) < 2 or arc_lengths(stroke)[-1] <= 0:
@@ -123,9 +145,10 @@ def _cut(work: Work) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
         if not work.merged:  # epsilon 0: each stroke comes back whole, as drawn
             cut = [resample_polyline(stroke, work.h)]
         else:
-            cut = [turn for leg in cut_at_corners(stroke, work.h, work.tuning.cut_angle,
-                                                  work.tuning.cut_reach * work.d,
-                                                  work.tuning.round_share)
+            legs = [resample_polyline(stroke, work.h)] if bundled[k] else cut_at_corners(
+                stroke, work.h, work.tuning.cut_angle, work.tuning.cut_reach * work.d,
+                work.tuning.round_share)
+            cut = [turn for leg in legs
                    for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
                                                     work.tuning.follow_cos,
                                                     work.tuning.back)]
