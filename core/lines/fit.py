@@ -8,17 +8,18 @@ extending it where the piece heads the spine's way there (within ``tuning.cut_an
 that crosses the end at a corner is another line; a piece that leaves one end and comes
 back to the other closes it: a circle drawn as loose arcs; so does a spine whose own ends
 meet, within ``member_reach`` and a ``tuning.loop_length``-th of its length: a small ring
-drawn whole). Then, twice, the spine is moved to the median of the ink's offsets
-from it, taken in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the
-line off the others), and the line so moved is smoothed over ``tuning.smooth`` d_eps
-(:func:`core.curves.bezier.smooth_between_corners`) between the spine's corners (where it
-turns as pass 1 cuts a stroke, not at a flick near its end: a shape drawn round again
-keeps its corners): the line runs through the middle of the passes, and ends where the ink
-ends. The line is smoothed, not the offsets alone: the spine is one pass, and a line made
-of it plus smoothed offsets would keep that pass's own wander at every scale the smoothing
-takes out of the offsets. A group of one piece is
-that piece, resampled: there is no other ink to move it to (pass 10 smooths it as it
-smooths every line).
+drawn whole). Then, twice, the spine is moved to the median of the ink's offsets from it,
+taken in bins ``tuning.bin`` d_eps long along it (a stray pass does not pull the line off
+the others), and the line so moved is smoothed over ``tuning.smooth`` d_eps
+(:func:`core.curves.bezier.smooth_between_corners`) between the corners the pen drew
+(where the spine turns as pass 1 cuts a stroke and a pass turns so too there, not at a
+flick near its end, nor where the spine steps from one pass onto the next: a shape drawn
+round again keeps its corners): the line runs through the middle of the passes, and ends
+where the ink ends. The line is smoothed, not the offsets alone: the spine is one pass,
+and a line made of it plus smoothed offsets would keep that pass's own wander at every
+scale the smoothing takes out of the offsets. A group of one piece is that piece,
+resampled: there is no other ink to move it to (pass 10 smooths it as it smooths every
+line).
 
 The checks. First, a group whose passes fall into two bundles along the stretch they
 share, one side's ink never crossing to the other's, with a band free of ink between them
@@ -214,6 +215,7 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
     spine, closed = _spine(pieces, reach, h, end_zone * reach, loop_length * reach,
                            float(np.cos(np.radians(corner))))
     ink = np.concatenate(pieces)
+    drawn = None  # the passes' own corners, found where the line has any
     for _ in range(rounds if len(pieces) > 1 else 0):  # one pass: the line is the pen's
         if closed:
             spine = np.concatenate([spine, spine[:1]]) if not np.array_equal(
@@ -237,6 +239,10 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
         if closed:
             moved[-1] = moved[0]
         corners = _corners(line, corner, corner_reach, round_share, closed)
+        if corners:
+            if drawn is None:
+                drawn = _pen_corners(pieces, corner, corner_reach, round_share)
+            corners = _drawn(line, corners, drawn, corner_reach)
         spine = smooth_between_corners(moved, smooth / (length / (n - 1)), corners, closed)
         if closed:  # a ring comes back with its first point repeated last
             spine = spine[:-1]
@@ -248,9 +254,9 @@ def centreline(pieces: list[np.ndarray], reach: float, h: float, bin_length: flo
 def _corners(line: np.ndarray, angle: float, reach: float, round_share: float,
              closed: bool) -> list[int]:
     """Where the evenly spaced ``line`` turns as pass 1 cuts a stroke (more than ``angle``
-    within ``reach`` each side, not round): the pen's corners, which the centreline keeps.
-    Not within ``reach`` of an open line's ends: a turn read on a leg shorter than the
-    test's window is a flick of the pen (a hook), not a corner (none with ``reach`` 0).
+    within ``reach`` each side, not round). Not within ``reach`` of an open line's ends: a
+    turn read on a leg shorter than the test's window is a flick of the pen (a hook), not
+    a corner (none with ``reach`` 0).
 
     >>> x = np.linspace(0, 1, 41)
     >>> ell = np.concatenate([np.c_[x, 0 * x], np.c_[1 + 0 * x[1:], x[1:]]])
@@ -264,6 +270,31 @@ def _corners(line: np.ndarray, angle: float, reach: float, round_share: float,
         return found
     s = arc_lengths(line)
     return [k for k in found if reach <= s[k] <= s[-1] - reach]
+
+
+def _pen_corners(pieces: list[np.ndarray], angle: float, reach: float, round_share: float
+                 ) -> np.ndarray:
+    """(k, 2): the corners of each of ``pieces`` itself (:func:`_corners`): where a pass
+    turns as the pen drew it."""
+    found = [p[_corners(p, angle, reach, round_share, False)] for p in pieces if len(p) > 2]
+    return np.concatenate(found) if found else np.zeros((0, 2))
+
+
+def _drawn(line: np.ndarray, corners: list[int], drawn: np.ndarray, reach: float
+           ) -> list[int]:
+    """The ``corners`` of ``line`` that a pass drew: with one of the passes' own corners
+    (``drawn``) within ``reach``. A turn of the line alone is no corner: where the spine
+    steps from one pass onto the next (a piece extends it a little aside), the line jogs
+    and no pass turns, and the jog is smoothed away like any other wander.
+
+    >>> jog = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.1], [2.0, 0.1]])
+    >>> _drawn(jog, [1, 2], np.array([[1.0, 0.1]]), 0.05), _drawn(jog, [1], np.zeros((0, 2)), 0.05)
+    ([2], [])
+    """
+    if not len(drawn):
+        return []
+    gap = np.hypot(*(line[corners][:, None, :] - drawn[None, :, :]).transpose(2, 0, 1))
+    return [k for k, g in zip(corners, gap.min(axis=1)) if g <= reach]
 
 
 def _signed_offsets(line: np.ndarray, points: np.ndarray, reach: float
