@@ -532,3 +532,25 @@ def test_a_small_round_shape_is_not_cut_at_corners_but_a_rounded_corner_is():
     arms = np.concatenate([np.stack([np.zeros(20), np.linspace(6 * d, 0.7 * d, 20)], 1),
                            bend, np.stack([np.linspace(0.7 * d, 6 * d, 20), np.zeros(20)], 1)])
     assert len(cut_at_corners(arms, 0.25 * d, Tuning.cut_angle, Tuning.cut_reach * d)) == 2
+
+
+@pytest.mark.parametrize("angle", [10, 20, 25])
+def test_a_stroke_is_cut_where_it_comes_back_round_not_where_it_crosses_itself(angle):
+    """A cursive l (up, round its top, down across its upstroke at a narrow angle, and
+    on) shaking a little is one piece: it crosses its earlier ink, from one side to the
+    other, and is not drawn over it. A ring drawn round twice, shaking alike, is cut into
+    its turns."""
+    from core.lines import pieces
+
+    a = np.radians(angle / 2)
+    up, down = np.array([np.sin(a), np.cos(a)]), np.array([-np.sin(a), np.cos(a)])
+    t = np.linspace(0, np.pi, 30)[:, None]
+    top = np.hstack([np.sin(a) * np.cos(t), np.cos(a) + np.sin(a) * np.sin(t)])
+    ell = resample_polyline(np.vstack([-0.5 * up, up, top, down, -0.5 * down]), 0.01)
+    t = np.linspace(0, 4 * np.pi, 400)
+    ring = resample_polyline(0.3 * np.stack([np.cos(t), np.sin(t)], axis=1), 0.01)
+    for seed in range(5):
+        rng = np.random.default_rng(seed)
+        shaken = [p + rng.normal(0, 0.004, p.shape) for p in (ell, ring)]
+        assert len(pieces.cut_where_it_returns(shaken[0], 0.05, 0.9)) == 1
+        assert len(pieces.cut_where_it_returns(shaken[1], 0.05, 0.9)) >= 2

@@ -3,7 +3,8 @@
 ``tuning.cut_reach`` d_eps each side: a corner drawn in one motion is two lines, which may
 belong to two different groups (but a small round shape, turning on the same way beyond,
 is no corner: ``tuning.round_share``); and where it comes back along its own earlier ink (a
-ring drawn round several times, a line drawn back over itself), each turn a piece. A
+ring drawn round several times, a line drawn back over itself), each turn a piece, not
+where it only crosses it (a cursive l's loop, one line through its crossing). A
 stroke that another stroke lies along whole, as it lies along the other (within
 ``tuning.twin_reach`` d_eps along ``tuning.twin_share`` of each: a shape drawn round
 again, a letter written over), is not cut at its corners: the two are passes of one line,
@@ -17,11 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arrays.geometry import Segments, tangents
+from ..arrays.geometry import Segments, segment_distance
 from ..arrays.polylines import arc_lengths, resample_polyline
 from ..curves.bezier import corner_indices
 from ..params import Tuning
 from .along import twin_pairs
+from .fit import true_runs
 from .work import Work
 
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
@@ -48,12 +50,21 @@ def cut_where_it_returns(points: np.ndarray, reach: float, along_cos: float,
     """An evenly spaced polyline cut where it comes back within ``reach`` of its own
     earlier ink (farther back along it than ``back`` times that), running along it (|cos| at
     least ``along_cos``, either way): a ring drawn round several times, a line drawn back
-    over itself. Each turn is a piece, which pass 3 groups with the others.
+    over itself. Each turn is a piece, which pass 3 groups with the others. Not where it
+    only crosses its earlier ink: coming from one side of it and leaving to the other (a
+    loop that crosses its own stroke at a narrow angle and goes on, a cursive l, e or h:
+    one line through its crossing).
 
     >>> t = np.linspace(0, 4 * np.pi, 200)  # round twice
     >>> ring = np.stack([np.cos(t), np.sin(t)], axis=1)
     >>> [len(p) for p in cut_where_it_returns(ring, 0.2, 0.9)]  # turns, and the overlap
     [98, 98, 6]
+    >>> up, down = np.array([0.17, 0.98]), np.array([-0.17, 0.98])  # 20 degrees apart
+    >>> t = np.linspace(0, np.pi, 30)[:, None]
+    >>> top = np.hstack([0.17 * np.cos(t), 0.98 + 0.17 * np.sin(t)])
+    >>> ell = resample_polyline(np.vstack([-0.5 * up, up, top, down, -0.5 * down]), 0.01)
+    >>> len(cut_where_it_returns(ell, 0.05, 0.9))  # up, round the top, down across
+    1
     """
     out = []
     while len(points) >= 4:
@@ -91,20 +102,94 @@ def _cannot_return(points: np.ndarray, back: float) -> bool:
 def _first_return(points: np.ndarray, reach: float, along_cos: float, back: float
                   ) -> int | None:
     """The first point that comes back along the polyline's earlier ink (see
-    :func:`cut_where_it_returns`), asked about a chunk at a time, or None."""
+    :func:`cut_where_it_returns`), asked about a chunk at a time, or None. Each stretch
+    that comes within ``reach`` of the earlier ink (gaps shorter than ``reach`` bridged)
+    is judged whole: it comes back where it runs along that ink somewhere in it (its
+    course over ``reach``, not its shake from point to point), unless it crossed the ink
+    (:func:`_across`)."""
     s = arc_lengths(points)
     if s[-1] <= back * reach or _cannot_return(points, back):
         return None
     segs = Segments.of([points])
-    tan = tangents(points)
-    for start in range(0, len(points), CHUNK):
-        rows = np.arange(start, min(start + CHUNK, len(points)))
-        i, seg = segs.running_along(points[rows], tan[rows], reach, along_cos)
+    n = len(points)
+    # its course over reach, not its shake from point to point
+    ahead = np.minimum(np.searchsorted(s, s + 0.5 * reach), n - 1)
+    behind = np.maximum(np.searchsorted(s, s - 0.5 * reach), 0)
+    tan = points[ahead] - points[behind]
+    tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-300)[:, None]
+    onto = np.full(n, -1)  # the nearest earlier segment each point comes back near
+    along = np.zeros(n, bool)  # ... and whether it runs along one of them
+    judged = 0  # the stretches before this point are judged: none came back
+    for start in range(0, n, CHUNK):
+        rows = np.arange(start, min(start + CHUNK, n))
+        i, seg = segs.running_along(points[rows], tan[rows], reach, 0.0)
         i = rows[i]
-        returned = s[i] - s[seg + 1] > back * reach
-        if returned.any():
-            return int(i[returned].min())
+        far_back = s[i] - s[seg + 1] > back * reach
+        i, seg = i[far_back], seg[far_back]
+        v = segs.vector[seg]
+        cos = np.abs((v * tan[i]).sum(axis=1)) / np.hypot(v[:, 0], v[:, 1])
+        along[i[cos >= along_cos]] = True
+        gap = segment_distance(points[i], segs.origin[seg], segs.end[seg])
+        order = np.lexsort((gap, i))[::-1]  # the nearest last: it wins the assignment
+        onto[i[order]] = seg[order]
+        # the stretches that end a reach or more before the points asked so far
+        asked = rows[-1] + 1
+        known = n if asked == n else int(np.searchsorted(s, s[rows[-1]] - reach))
+        found, judged = _came_back(points, s, onto[:asked], along, judged, known, reach,
+                                   back)
+        if found is not None:
+            return found
     return None
+
+
+def _came_back(points: np.ndarray, s: np.ndarray, onto: np.ndarray, along: np.ndarray,
+               lo: int, hi: int, reach: float, back: float) -> tuple[int | None, int]:
+    """The first point, in the stretches that end between ``lo`` and ``hi``, where the
+    polyline came back along its earlier ink (``onto``: for each point asked so far, the
+    earlier segment it comes near, -1 none; ``along``: whether it runs along one),
+    judging each stretch that comes near whole, gaps shorter than ``reach`` bridged (the
+    pen's shake); and where to go on judging from (the first stretch not yet ended)."""
+    near = onto[lo:] >= 0
+    for a, b in true_runs(~near):
+        if a > 0 and b < len(near) - 1 and s[lo + b + 1] - s[lo + a - 1] < reach:
+            near[a:b + 1] = True
+    for first, last in true_runs(near):
+        first, last = lo + first, lo + last
+        if last >= hi - 1 and hi < len(points):
+            return None, first  # it may go on: judged with the next points
+        runs = np.flatnonzero(along[first:last + 1])
+        if not len(runs):
+            continue
+        before = (s >= s[first] - back * reach) & (s < s[first])
+        after = (s > s[last]) & (s <= s[last] + back * reach)
+        if not _across(points, s, before, after, onto[first], onto[last], reach):
+            return first + int(runs[0]), hi  # it came back along there
+    return None, hi
+
+
+def _across(points: np.ndarray, s: np.ndarray, before: np.ndarray, after: np.ndarray,
+            k: int, m: int, reach: float) -> bool:
+    """Whether the polyline (arc lengths ``s``) crossed its own earlier ink where it came
+    near it, from by its point ``k`` to by its point ``m``: its points ``before`` (a mask)
+    lie, on the whole, beyond half ``reach`` on one side of the earlier ink's course at
+    ``k`` (its chord over ``reach`` each side), and its points ``after`` beyond it on the
+    other side at ``m``. A pen's shake averages out over the points; a ring's second turn
+    comes in along its first, from no side."""
+    sides = []
+    for mask, j in ((before, k), (after, m)):
+        if not mask.any():
+            return False
+        near = np.flatnonzero(np.abs(s - s[j]) <= reach)
+        chord = points[near[-1]] - points[near[0]]
+        length = float(np.hypot(*chord))
+        if length == 0:
+            return False
+        w = points[mask] - points[j]
+        offset = float(np.mean(chord[0] * w[:, 1] - chord[1] * w[:, 0])) / length
+        if abs(offset) <= 0.5 * reach:
+            return False
+        sides.append(offset > 0)
+    return sides[0] != sides[1]
 
 
 def run(work: Work) -> Work:
