@@ -24,7 +24,7 @@ import numpy as np
 __all__ = [
     "arc_lengths", "end_to_end", "ends_meet", "gaussian_kernel", "leading_count", "points_at",
     "Polylines", "resample_each", "resample_polyline", "resample_polylines", "smoothed_ring",
-    "split", "starts", "total_lengths",
+    "split", "starts", "total_lengths", "true_runs",
 ]
 
 
@@ -71,6 +71,17 @@ def leading_count(mask: np.ndarray) -> int | np.ndarray:
     """
     count = np.where(mask.all(axis=0), len(mask), np.argmin(mask, axis=0))
     return int(count) if mask.ndim == 1 else count
+
+
+def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of each run of True.
+
+    >>> true_runs(np.array([True, False, True, True]))
+    [(0, 0), (2, 3)]
+    """
+    edges = np.diff(np.r_[0, mask.astype(np.int8), 0])
+    firsts, lasts = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    return list(zip(firsts.tolist(), lasts.tolist()))
 
 
 def starts(sizes: np.ndarray) -> np.ndarray:

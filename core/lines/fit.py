@@ -60,7 +60,7 @@ import shapely
 
 from ..arrays.components import component_labels, kept_apart_labels
 from ..arrays.geometry import Segments, project_on, tangents
-from ..arrays.polylines import arc_lengths, ends_meet, resample_polyline
+from ..arrays.polylines import arc_lengths, ends_meet, resample_polyline, true_runs
 from ..curves.bezier import corner_indices, smooth_between_corners
 from ..params import Tuning
 from .along import parting, runs_along
@@ -68,18 +68,7 @@ from .work import Line, Work
 
 __all__ = ["GroupFit", "absorb_lines", "along_pairs", "band_split", "centreline",
            "clear_band", "components", "fit_group", "fitted_centreline", "group_fit",
-           "lies_apart", "one_loose_line", "regroup", "run", "true_runs"]
-
-
-def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """(first, last) index of each run of True.
-
-    >>> true_runs(np.array([True, False, True, True]))
-    [(0, 0), (2, 3)]
-    """
-    edges = np.diff(np.r_[0, mask.astype(np.int8), 0])
-    firsts, lasts = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
-    return list(zip(firsts.tolist(), lasts.tolist()))
+           "lies_apart", "one_loose_line", "regroup", "run"]
 
 
 def _runs_on_from(line: np.ndarray, run: np.ndarray, reach: float, cos_min: float) -> bool:

@@ -19,9 +19,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..arrays.geometry import Segments
-from ..arrays.polylines import arc_lengths
+from ..arrays.polylines import arc_lengths, true_runs
 from .chains import End, chain
-from .fit import components, fitted_centreline, true_runs
+from .fit import components, fitted_centreline
 from .work import Line, Work
 
 __all__ = ["run", "stretches_apart"]

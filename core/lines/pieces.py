@@ -19,11 +19,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..arrays.geometry import Segments, segment_distance
-from ..arrays.polylines import arc_lengths, resample_polyline
+from ..arrays.polylines import arc_lengths, resample_polyline, true_runs
 from ..curves.bezier import corner_indices
 from ..params import Tuning
 from .along import twin_pairs
-from .fit import true_runs
 from .work import Work
 
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
