@@ -159,8 +159,8 @@ def _came_back(points: np.ndarray, s: np.ndarray, onto: np.ndarray, along: np.nd
         runs = np.flatnonzero(along[first:last + 1])
         if not len(runs):
             continue
-        before = (s >= s[first] - back * reach) & (s < s[first])
-        after = (s > s[last]) & (s <= s[last] + back * reach)
+        before = points[np.searchsorted(s, s[first] - back * reach):first]
+        after = points[last + 1:np.searchsorted(s, s[last] + back * reach, side="right")]
         if not _across(points, s, before, after, onto[first], onto[last], reach):
             return first + int(runs[0]), hi  # it came back along there
     return None, hi
@@ -169,21 +169,21 @@ def _came_back(points: np.ndarray, s: np.ndarray, onto: np.ndarray, along: np.nd
 def _across(points: np.ndarray, s: np.ndarray, before: np.ndarray, after: np.ndarray,
             k: int, m: int, reach: float) -> bool:
     """Whether the polyline (arc lengths ``s``) crossed its own earlier ink where it came
-    near it, from by its point ``k`` to by its point ``m``: its points ``before`` (a mask)
-    lie, on the whole, beyond half ``reach`` on one side of the earlier ink's course at
-    ``k`` (its chord over ``reach`` each side), and its points ``after`` beyond it on the
-    other side at ``m``. A pen's shake averages out over the points; a ring's second turn
-    comes in along its first, from no side."""
+    near it, from by its point ``k`` to by its point ``m``: its points ``before`` lie, on
+    the whole, beyond half ``reach`` on one side of the earlier ink's course at ``k`` (its
+    chord over ``reach`` each side), and its points ``after`` beyond it on the other side
+    at ``m``. A pen's shake averages out over the points; a ring's second turn comes in
+    along its first, from no side."""
     sides = []
-    for mask, j in ((before, k), (after, m)):
-        if not mask.any():
+    for stretch, j in ((before, k), (after, m)):
+        if not len(stretch):
             return False
-        near = np.flatnonzero(np.abs(s - s[j]) <= reach)
-        chord = points[near[-1]] - points[near[0]]
+        chord = (points[np.searchsorted(s, s[j] + reach, side="right") - 1]
+                 - points[np.searchsorted(s, s[j] - reach)])
         length = float(np.hypot(*chord))
         if length == 0:
             return False
-        w = points[mask] - points[j]
+        w = stretch - points[j]
         offset = float(np.mean(chord[0] * w[:, 1] - chord[1] * w[:, 0])) / length
         if abs(offset) <= 0.5 * reach:
             return False
@@ -204,11 +204,11 @@ def run(work: Work) -> Work:
     return work.with_(pieces=list(pieces), piece_stroke=owner, piece_index=index)
 
 
-def _twins(work: Work) -> np.ndarray:
-    """(n,) whether each input stroke has a twin: another stroke that, whole, lies along it
-    as it lies along the other (:func:`core.lines.along.twin_pairs`); none at epsilon 0."""
+def _twins(work: Work, drawn: list[int]) -> np.ndarray:
+    """(n,) whether each input stroke has a twin among the ``drawn`` ones: another stroke
+    that, whole, lies along it as it lies along the other
+    (:func:`core.lines.along.twin_pairs`); none at epsilon 0."""
     twin = np.zeros(len(work.strokes), bool)
-    drawn = [k for k, s in enumerate(work.strokes) if len(s) >= 2 and arc_lengths(s)[-1] > 0]
     if work.merged and len(drawn) >= 2:
         pairs = twin_pairs([work.strokes[k] for k in drawn], work.tuning.twin_reach * work.d,
                            work.tuning.twin_share, work.h)
@@ -221,11 +221,11 @@ def _cut(work: Work) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
     with a twin (:func:`_twins`) is not cut at its corners: both are passes of one line,
     corners and all, and its legs have their group already (its twin's); it is cut only
     where it comes back over itself."""
-    bundled = _twins(work)
+    drawn = [k for k, s in enumerate(work.strokes) if len(s) >= 2 and arc_lengths(s)[-1] > 0]
+    bundled = _twins(work, drawn)
     pieces, owner, index = [], [], []
-    for k, stroke in enumerate(work.strokes):
-        if len(stroke) < 2 or arc_lengths(stroke)[-1] <= 0:
-            continue
+    for k in drawn:
+        stroke = work.strokes[k]
         if not work.merged:  # epsilon 0: each stroke comes back whole, as drawn
             cut = [resample_polyline(stroke, work.h)]
         else:
