@@ -146,15 +146,17 @@ def segment_distance(points: np.ndarray, origin: np.ndarray, end: np.ndarray
     px, py = points[..., 0], points[..., 1]
     vx, vy = bx - ax, by - ay
     squared = vx * vx + vy * vy
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = ((px - ax) * vx + (py - ay) * vy) / squared
-        s = ((ay - py) * vx - (ax - px) * vy) / squared
     dxa, dya = px - ax, py - ay
     dxb, dyb = px - bx, py - by
     to_a = np.sqrt(dxa * dxa + dya * dya)
-    return np.where((squared == 0) | (r <= 0), to_a,
-                    np.where(r >= 1, np.sqrt(dxb * dxb + dyb * dyb),
-                             np.abs(s) * np.sqrt(squared)))
+    # every branch is computed; where a segment has no length its r and s are NaN and
+    # unused (the distance is to its end)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = ((px - ax) * vx + (py - ay) * vy) / squared
+        s = ((ay - py) * vx - (ax - px) * vy) / squared
+        return np.where((squared == 0) | (r <= 0), to_a,
+                        np.where(r >= 1, np.sqrt(dxb * dxb + dyb * dyb),
+                                 np.abs(s) * np.sqrt(squared)))
 
 
 def _nearest_measured(origin: np.ndarray, end: np.ndarray, points: np.ndarray
