@@ -11,43 +11,53 @@ import numpy as np
 from ..arrays.geometry import Reached, project_on
 from ..arrays.polylines import arc_lengths
 
-__all__ = ["parting", "runs_along", "twin_pairs"]
+__all__ = ["parting", "runs_along", "twinned"]
 
 
-def twin_pairs(polylines: list[np.ndarray], reach: float, share: float, spacing: float
-               ) -> np.ndarray:
-    """(k, 2) pairs of ``polylines`` (indices, the smaller first) that each lie along the
-    other, passes of one line: at least ``share`` of each one's samples (every
-    ``spacing``) within ``reach`` of the other as drawn (pass 1). A short pass along part
-    of a long one is not a twin of it; two lines drawn once each, closer than ``reach``
-    all along, are (the reach is the bundle's own width).
+def twinned(polylines: list[np.ndarray], of: np.ndarray, reach: float, share: float,
+            spacing: float) -> np.ndarray:
+    """Whether each of the polylines numbered ``of`` has a twin among ``polylines``:
+    another that it lies along and that lies along it, passes of one line: at least
+    ``share`` of each one's samples (every ``spacing``) within ``reach`` of the other as
+    drawn (pass 1). A short pass along part of a long one is not a twin of it; two lines
+    drawn once each, closer than ``reach`` all along, are (the reach is the bundle's own
+    width). Only the polylines of ``of`` are sampled against all, and all against those of
+    ``of``: the others' twins are not sought.
 
     >>> x = np.linspace(0, 1, 21)[:, None]
     >>> a, b, c = np.hstack([x, 0 * x]), np.hstack([x, 0.01 + 0 * x]), np.hstack([x / 2, x])
-    >>> twin_pairs([a, b, c], 0.02, 0.8, 0.05).tolist()  # c crosses a and b, along neither
-    [[0, 1]]
-    >>> twin_pairs([a, b[:8]], 0.02, 0.8, 0.05).tolist()  # b along a third of a only
-    []
+    >>> twinned([a, b, c], np.array([0, 2]), 0.02, 0.8, 0.05).tolist()  # c crosses a and b
+    [True, False]
+    >>> twinned([a, b[:8]], np.array([0, 1]), 0.02, 0.8, 0.05).tolist()  # b along a third of a
+    [False, False]
     """
     n = len(polylines)
-    none = np.zeros((0, 2), dtype=np.intp)
-    if n < 2:
-        return none
-    reached = Reached.of(polylines, polylines, reach, spacing)
-    other = reached.line
-    keep = reached.polyline[reached.sample] != other
-    # each sample counted once for each other polyline it lies within reach of
-    key = np.unique(reached.sample[keep].astype(np.int64) * n + other[keep])
-    pair, counts = np.unique(reached.polyline[key // n].astype(np.int64) * n + key % n,
+    of = np.asarray(of, dtype=np.intp)
+    if n < 2 or not len(of):
+        return np.zeros(len(of), dtype=bool)
+    chosen = [polylines[k] for k in of.tolist()]
+    # "a lies along b", keyed a * n + b, each way round from one query
+    own, other = _along(chosen, polylines, reach, share, spacing)
+    ahead = of[own].astype(np.int64) * n + other
+    own, other = _along(polylines, chosen, reach, share, spacing)
+    back = of[other].astype(np.int64) * n + own  # the other lies along one of ``of``
+    both = np.intersect1d(ahead, back)
+    both = both[both // n != both % n]  # not itself
+    return np.isin(of, both // n)
+
+
+def _along(polylines: list[np.ndarray], lines: list[np.ndarray], reach: float, share: float,
+           spacing: float) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs (polyline, line), indices into each, with at least ``share`` of the
+    polyline's samples (every ``spacing``) within ``reach`` of the line: each sample
+    counted once for each line it lies within reach of."""
+    reached = Reached.of(polylines, lines, reach, spacing)
+    m = len(lines)
+    key = np.unique(reached.sample.astype(np.int64) * m + reached.line)
+    pair, counts = np.unique(reached.polyline[key // m].astype(np.int64) * m + key % m,
                              return_counts=True)
-    if not len(pair):
-        return none
-    shares = counts / np.maximum(reached.count[pair // n], 1)
-    a, b = pair // n, pair % n
-    at = np.minimum(np.searchsorted(pair, b * n + a), len(pair) - 1)
-    back = np.where(pair[at] == b * n + a, shares[at], 0.0)  # the other way round
-    mutual = (a < b) & (shares >= share) & (back >= share)
-    return np.stack([a[mutual], b[mutual]], axis=1).astype(np.intp)
+    enough = counts / np.maximum(reached.count[pair // m], 1) >= share
+    return (pair[enough] // m).astype(np.intp), (pair[enough] % m).astype(np.intp)
 
 
 def runs_along(line: np.ndarray, pieces: list[np.ndarray], reach: float,

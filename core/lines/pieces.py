@@ -22,7 +22,7 @@ from ..arrays.geometry import Segments, segment_distance
 from ..arrays.polylines import arc_lengths, resample_polyline, true_runs
 from ..curves.bezier import corner_indices
 from ..params import Tuning
-from .along import twin_pairs
+from .along import twinned
 from .work import Work
 
 __all__ = ["cut_at_corners", "cut_where_it_returns", "run"]
@@ -204,38 +204,38 @@ def run(work: Work) -> Work:
     return work.with_(pieces=list(pieces), piece_stroke=owner, piece_index=index)
 
 
-def _twins(work: Work, drawn: list[int]) -> np.ndarray:
-    """(n,) whether each input stroke has a twin among the ``drawn`` ones: another stroke
-    that, whole, lies along it as it lies along the other
-    (:func:`core.lines.along.twin_pairs`); none at epsilon 0."""
-    twin = np.zeros(len(work.strokes), bool)
-    if work.merged and len(drawn) >= 2:
-        pairs = twin_pairs([work.strokes[k] for k in drawn], work.tuning.twin_reach * work.d,
-                           work.tuning.twin_share, work.h)
-        twin[np.asarray(drawn, dtype=np.intp)[pairs.ravel()]] = True
-    return twin
+def _cornered_legs(work: Work, drawn: list[int]) -> dict[int, list[np.ndarray]]:
+    """Each ``drawn`` stroke resampled as its legs: cut at its corners
+    (:func:`cut_at_corners`), but whole where it has a twin among the ``drawn`` ones,
+    another stroke that, whole, lies along it as it lies along the other
+    (:func:`core.lines.along.twinned`); at epsilon 0 every stroke whole. Twins are sought
+    for the strokes with corners only: the others are whole either way."""
+    if not work.merged:  # epsilon 0: each stroke comes back whole, as drawn
+        return {k: [resample_polyline(work.strokes[k], work.h)] for k in drawn}
+    t = work.tuning
+    legs = {k: cut_at_corners(work.strokes[k], work.h, t.cut_angle, t.cut_reach * work.d,
+                              t.round_share) for k in drawn}
+    cornered = np.array([j for j, k in enumerate(drawn) if len(legs[k]) > 1], dtype=np.intp)
+    twin = twinned([work.strokes[k] for k in drawn], cornered, t.twin_reach * work.d,
+                   t.twin_share, work.h)
+    for j in cornered[twin].tolist():
+        legs[drawn[j]] = [resample_polyline(work.strokes[drawn[j]], work.h)]
+    return legs
 
 
 def _cut(work: Work) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
     """The pieces of every input stroke, the stroke of each and its place in it. A stroke
-    with a twin (:func:`_twins`) is not cut at its corners: both are passes of one line,
-    corners and all, and its legs have their group already (its twin's); it is cut only
-    where it comes back over itself."""
+    with a twin (:func:`_cornered_legs`) is not cut at its corners: both are passes of one
+    line, corners and all, and its legs have their group already (its twin's); it is cut
+    only where it comes back over itself."""
     drawn = [k for k, s in enumerate(work.strokes) if len(s) >= 2 and arc_lengths(s)[-1] > 0]
-    bundled = _twins(work, drawn)
+    legs_of = _cornered_legs(work, drawn)
     pieces, owner, index = [], [], []
     for k in drawn:
-        stroke = work.strokes[k]
-        if not work.merged:  # epsilon 0: each stroke comes back whole, as drawn
-            cut = [resample_polyline(stroke, work.h)]
-        else:
-            legs = [resample_polyline(stroke, work.h)] if bundled[k] else cut_at_corners(
-                stroke, work.h, work.tuning.cut_angle, work.tuning.cut_reach * work.d,
-                work.tuning.round_share)
-            cut = [turn for leg in legs
-                   for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
-                                                    work.tuning.follow_cos,
-                                                    work.tuning.back)]
+        cut = legs_of[k] if not work.merged else [
+            turn for leg in legs_of[k]
+            for turn in cut_where_it_returns(leg, work.tuning.follow_reach * work.d,
+                                             work.tuning.follow_cos, work.tuning.back)]
         for j, piece in enumerate(cut):
             pieces.append(piece)
             owner.append(k)
