@@ -10,7 +10,10 @@ the Hershey single-stroke fonts (the ``Hershey-Fonts`` package, MIT; a dev depen
 ``handwriting``, two lines of cursive words (the ``scripts`` font, its coarse polylines
 rounded by Chaikin's corner cutting), and ``icons``, four marker shapes side by side
 (circles, boxes, triangles, stars, arrows: the ``markers`` font, corners kept), close
-enough to be one drawing (not a page of drawings, each at its own size). Each curve is
+enough to be one drawing (not a page of drawings, each at its own size), and ``kanji``,
+two glyphs of five strokes or more side by side (the ``japanese`` font, corners kept:
+short ticks and dots beside long strokes; a wide stroke, which the font draws as two
+lines, as one). Each curve is
 drawn again as 2 to 4 passes: each pass offset from it by a constant (sigma 0.4% of the
 diagonal D), a slow wander (0.3% D, wavelength 10-30% D) and a tremor (0.05% D), its ends
 trimmed by up to 2% D or run on by up to 2% D along the curve's tangent; the seed is the
@@ -104,6 +107,12 @@ DRAWINGS = 20
 #: the margin round a Hershey drawing, and the spacing of icons, in font units (a glyph
 #: is about 20 tall, a marker 14 across)
 MARGIN, SPACING = 6.0, 20.0
+#: a kanji drawing: two glyphs of the ``japanese`` font side by side, this far apart (a
+#: glyph is about 20 across), each of at least this many strokes (kanji, not kana)
+KANJI_SPACING, KANJI_STROKES = 26.0, 5
+#: a kanji stroke within this (font units) of a longer one along this share of it is the
+#: font's second line of a wide stroke (:func:`single_lines`)
+DOUBLE_REACH, DOUBLE_SHARE = 1.5, 0.8
 
 
 def chaikin(points: np.ndarray, rounds: int = 2) -> np.ndarray:
@@ -122,6 +131,28 @@ def chaikin(points: np.ndarray, rounds: int = 2) -> np.ndarray:
     return points
 
 
+def single_lines(curves: list[np.ndarray], reach: float = DOUBLE_REACH,
+                 share: float = DOUBLE_SHARE) -> list[np.ndarray]:
+    """``curves`` without the second line of a doubled stroke: a curve of which ``share``
+    lies within ``reach`` (font units) of a longer one is left out. The ``japanese``
+    font draws a wide stroke as two lines a unit apart (a hand draws it once) and a long
+    one as overlapping pieces.
+
+    >>> bar = np.array([[0.0, 0.0], [10.0, 0.0]])
+    >>> [len(c) for c in single_lines([bar, bar[::-1] + [0.0, 0.8], bar + [0.0, 5.0]])]
+    [2, 2]
+    """
+    lines = [shapely.LineString(c) for c in curves]
+    order = sorted(range(len(curves)), key=lambda k: -lines[k].length)
+    kept: list[int] = []
+    for k in order:
+        points = shapely.points(shapely.segmentize(lines[k], reach / 4).coords)
+        if not any(float((shapely.distance(points, lines[o]) <= reach).mean()) >= share
+                   for o in kept):
+            kept.append(k)
+    return [curves[k] for k in sorted(kept)]
+
+
 def hershey_drawing(kind: str, index: int) -> tuple[list[np.ndarray], float, float]:
     """The clean curves of drawing ``index`` of a Hershey ``kind`` (see the module), laid
     on a canvas with a margin: the curves, the canvas's width and height."""
@@ -136,6 +167,14 @@ def hershey_drawing(kind: str, index: int) -> tuple[list[np.ndarray], float, flo
             words = " ".join(rng.choice(WORDS, 2, replace=False))
             curves += [chaikin(np.asarray(s, float)) + [0.0, 32.0 * row]
                        for s in font.strokes_for_text(words)]
+    elif kind == "kanji":
+        font.load_default_font("japanese")
+        glyphs = [font.all_glyphs[c] for c in font.all_glyphs if c != " "
+                  and len(font.all_glyphs[c].strokes) >= KANJI_STROKES]
+        for cell in range(2):
+            glyph = glyphs[int(rng.integers(len(glyphs)))]
+            curves += single_lines([np.asarray(s, float) + [KANJI_SPACING * cell, 0.0]
+                                    for s in glyph.strokes if len(s) >= 2])
     elif kind == "icons":
         font.load_default_font("markers")
         shapes = [c for c in font.all_glyphs if font.all_glyphs[c].strokes and c != " "]
@@ -156,7 +195,7 @@ def clean_curves(source: str) -> tuple[list[np.ndarray], float, float]:
     """The clean curves of ``source`` (a ``full_fit.scap`` path, or ``KIND/INDEX`` of a
     Hershey kind) and its canvas's width and height."""
     kind, _, index = source.partition("/")
-    if kind in ("handwriting", "icons") and index.isdigit():
+    if kind in ("handwriting", "icons", "kanji") and index.isdigit():
         return hershey_drawing(kind, int(index))
     from core import read_sketch
 
@@ -199,7 +238,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--param", default="", help="options to change, as name=value,...")
     ap.add_argument("--offset", type=float, default=OFFSET,
                     help="sigma of a pass's constant offset (fraction of D)")
-    ap.add_argument("--kind", choices=("product", "handwriting", "icons"), default="product",
+    ap.add_argument("--kind", choices=("product", "handwriting", "icons", "kanji"),
+                    default="product",
                     help="where the clean curves come from (see the module)")
     args = ap.parse_args(argv)
     if args.kind != "product":

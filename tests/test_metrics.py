@@ -147,7 +147,7 @@ def test_the_synthetic_drawings_examples_hold():
     assert result.attempted >= 3 and result.failed == 0
 
 
-@pytest.mark.parametrize("kind", ["handwriting", "icons"])
+@pytest.mark.parametrize("kind", ["handwriting", "icons", "kanji"])
 def test_a_hershey_drawing_is_the_same_every_time_and_lies_on_its_canvas(kind):
     pytest.importorskip("HersheyFonts")
     from synthetic_passes import hershey_drawing
@@ -159,3 +159,20 @@ def test_a_hershey_drawing_is_the_same_every_time_and_lies_on_its_canvas(kind):
     assert len(curves) >= 4 and all(np.array_equal(a, b) for a, b in zip(curves, again))
     assert not all(len(a) == len(b) and np.array_equal(a, b) for a, b in zip(curves, other))
     assert ink.min() > 0 and (ink.max(axis=0) < [width, height]).all()
+
+
+def test_a_kanji_drawing_draws_each_wide_stroke_once():
+    """The font draws a wide stroke as two lines about a unit apart; the kanji kind keeps
+    one (a hand draws it once), so no curve lies along another."""
+    pytest.importorskip("HersheyFonts")
+    import shapely
+    from synthetic_passes import DOUBLE_REACH, hershey_drawing
+
+    for index in range(4):
+        curves, *_ = hershey_drawing("kanji", index)
+        lines = [shapely.LineString(c) for c in curves]
+        for k, line in enumerate(lines):
+            points = shapely.points(shapely.segmentize(line, 0.25).coords)
+            for o, other in enumerate(lines):
+                if o != k:
+                    assert (shapely.distance(points, other) <= DOUBLE_REACH).mean() < 0.8
