@@ -180,6 +180,12 @@ class Tuning:
     #: longer, running along it (pass 5). decisions: "groups split where a band free of ink
     #: runs all along them"
     along_share: float = 0.6
+    #: ... running within this |cos| of the longer's direction (15 degrees): fitted lines
+    #: are smooth, so their direction is their course, not a pen's tremor (the raw
+    #: pieces' follow_cos allows 30); a line meeting another at 20 degrees or more (an
+    #: arrowhead's leg, a letter's stroke leaving a bowl) is another line (pass 5).
+    #: decisions: "a line lies along another within 15 degrees"
+    along_cos: float = 0.966
     #: rounds of pass 5 at most. decisions: "the pen stage's join run until a round joins
     #: nothing"
     join_rounds: int = 2

@@ -212,6 +212,31 @@ def test_an_eye_drawn_as_two_strokes_each_most_of_the_way_round_is_one_round_clo
     assert r.min() > 0.85 * r.max()  # round, not a lemon
 
 
+def test_an_arrowhead_whose_legs_leave_the_shaft_at_20_degrees_stays_a_line_of_its_own():
+    """Four arrows, each a shaft drawn twice and a head drawn as one V whose legs, 3% of
+    the diagonal long, leave the shaft's tip 20 degrees off it: each head is a line of its
+    own, from one leg's tip to the other's. Pass 5 joined each leg to its shaft as a line
+    lying along it (within d_eps, running within the raw pieces' 30 degrees)."""
+    rng = np.random.default_rng(1)
+    strokes, tips = [], []
+    back = 0.03 * D * np.array([np.cos(np.radians(20)), np.sin(np.radians(20))])
+    for k in range(4):
+        y = 60 + 110 * k
+        strokes += [resample(np.array([[60.0, y + dy], [360.0, y + dy]]), 2.0) for dy in (0, 1)]
+        tip = np.array([360.0, y])
+        ends = (tip - back * [1, 1], tip - back * [1, -1])
+        v = resample(np.array([ends[0], tip, ends[1]]), 1.0)
+        strokes.append(v + rng.normal(0, 0.2, v.shape))
+        tips.append(ends)
+    out = lines_of(strokes)
+    assert len(out) == 8
+    def ends_near(stroke, point) -> bool:
+        return min(np.hypot(*(stroke.points[[0, -1]] - point).T)) < 0.01 * D
+
+    for up, down in tips:  # a line from one leg's tip to the other's
+        assert any(ends_near(s, up) and ends_near(s, down) for s in out)
+
+
 def resample(p: np.ndarray, step: float) -> np.ndarray:
     d = np.hypot(*np.diff(p, axis=0).T)
     s = np.r_[0, np.cumsum(d)]

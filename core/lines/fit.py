@@ -600,8 +600,9 @@ def _parting_of(pairs: np.ndarray, work: Work) -> np.ndarray:
 
 
 def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
-    """Pairs (shorter, longer) of lines of which the shorter lies along the longer (see
-    the module)."""
+    """Pairs (shorter, longer) of lines of which the shorter lies along the longer: at
+    least ``tuning.along_share`` of its points within d_eps of it, running within
+    ``tuning.along_cos`` of its direction (pass 5)."""
     if len(lines) < 2:
         return np.zeros((0, 2), dtype=np.intp)
     pts = [ln.points for ln in lines]
@@ -611,7 +612,7 @@ def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
     which = np.repeat(np.arange(len(lines)), sizes)
     points = np.concatenate(pts)
     tan = np.concatenate([tangents(ln.points, ln.closed) for ln in lines])
-    i, seg = segs.running_along(points, tan, work.d, work.tuning.follow_cos)
+    i, seg = segs.running_along(points, tan, work.d, work.tuning.along_cos)
     other = segs.polyline[seg]
     ok = ((other != which[i])
           & ((lengths[other] > lengths[which[i]])

@@ -14,7 +14,8 @@ to end where the merge's blend of the two is no curve (an arc turning over 90 de
 the other's end), but only round a loop, the other joined pairs linking them anyway
 (:func:`_round_a_loop`: three arcs of a circle; an open chain, a spiral's turns, is the
 merge's to pair); and, as pass 4's
-groups are, where the shorter lies along the longer (within d_eps, running along it) over
+groups are, where the shorter lies along the longer (within d_eps, running within
+``tuning.along_cos``, 15 degrees, of its direction: a fitted line's course) over
 ``tuning.along_share`` of its length (:func:`core.lines.fit.along_pairs`: a loose pass
 the Fourier distance sees as a change of shape). Either way, only where the two inks
 leave no band free of ink wider than ``params.fill_gap`` between them
