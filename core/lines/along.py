@@ -36,7 +36,7 @@ def twinned(polylines: list[np.ndarray], of: np.ndarray, reach: float, share: fl
     if n < 2 or not len(of):
         return np.zeros(len(of), dtype=bool)
     chosen = [polylines[k] for k in of.tolist()]
-    # "a lies along b", keyed a * n + b, each way round from one query
+    # "a lies along b", keyed a * n + b: ``of`` against all, then all against ``of``
     own, other = _along(chosen, polylines, reach, share, spacing)
     ahead = of[own].astype(np.int64) * n + other
     own, other = _along(polylines, chosen, reach, share, spacing)

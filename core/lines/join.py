@@ -13,8 +13,7 @@ drawn as two arcs: the curve merge pairs one end only, :func:`_close_each_other`
 to end where the merge's blend of the two is no curve (an arc turning over 90 degrees past
 the other's end), but only round a loop, the other joined pairs linking them anyway
 (:func:`_round_a_loop`: three arcs of a circle; an open chain, a spiral's turns, is the
-merge's to pair); and, as pass 4's
-groups are, where the shorter lies along the longer (within d_eps, running within
+merge's to pair); and where the shorter lies along the longer (within d_eps, running within
 ``tuning.along_cos``, 15 degrees, of its direction: a fitted line's course) over
 ``tuning.along_share`` of its length (:func:`core.lines.fit.along_pairs`: a loose pass
 the Fourier distance sees as a change of shape). Either way, only where the two inks
