@@ -41,9 +41,13 @@ class Tuning:
     """
 
     # -- the width "auto" gives (SimplifyParams.resolved and widths) --
-    #: alpha is this many times the ink's spacing (:func:`ink_spacing`), from PAPER_ALPHA
-    #: to loose_alpha. decisions: "The auto width's bounds"
+    #: alpha is this many times the ink's spacing (:func:`ink_spacing`), from
+    #: narrowest_alpha to loose_alpha. decisions: "The auto width's bounds"
     spacing_share: float = 1.5
+    #: the narrowest alpha (D) "auto" gives, half the paper's: a dense drawing's close
+    #: lines kept apart, its lines' samples (a quarter of the width apart) bounded.
+    #: decisions: "the width follows dense ink below the paper's"
+    narrowest_alpha: float = 0.006
     #: the widest alpha (D) kept whatever its result. decisions: "The auto width's bounds"
     loose_alpha: float = 0.015
     #: an ink this wide (D, spacing_share times its spacing) or wider is first tried that
@@ -219,6 +223,10 @@ class Tuning:
     #: an end within this many d_eps of another line meets it (passes 7-9). decisions: "one
     #: output stage, lines from the pen"
     snap: float = 1.0
+    #: ... and snap and overshoot (passes 7-9) count d_eps as at least this (D): how far a
+    #: hand's end misses a line does not narrow with a dense drawing's width. decisions:
+    #: "the width follows dense ink below the paper's"
+    meet_alpha: float = 0.012
     #: an end crossing a line and running on at most this many d_eps is cut there.
     #: decisions: "one output stage, lines from the pen"
     overshoot: float = 2.0
@@ -356,11 +364,13 @@ class SimplifyParams:
 
         "auto" follows the ink when ``unit_strokes`` (the drawing's strokes in the unit
         frame, without ink far away) are given: ``tuning.spacing_share`` times their
-        spacing (:func:`ink_spacing`), no narrower than the paper's 0.012 and no wider than
-        ``tuning.loose_alpha``. A sparse drawing, whose passes lie far apart for its size
-        (cartoons, handwriting, test drawings), gets a wider bundle; a dense one (product
-        sketches: many close construction lines) keeps the paper's. (How each bound was
-        measured: ``docs/decisions.md``, "The auto width's bounds".)
+        spacing (:func:`ink_spacing`), no narrower than ``tuning.narrowest_alpha`` and no
+        wider than ``tuning.loose_alpha``. A sparse drawing, whose passes lie far apart for
+        its size (cartoons, handwriting, test drawings), gets a wider bundle; a dense one
+        (product sketches: many close construction lines) a narrower one than the paper's
+        0.012, so that its close lines stay apart. (How each bound was measured:
+        ``docs/decisions.md``, "The auto width's bounds" and "the width follows dense ink
+        below the paper's".)
 
         Then never more than ``tuning.stroke_share`` of the median length of the strokes (nor
         less than :data:`MIN_ALPHA`): a bundle is never wider than half the strokes that
@@ -381,8 +391,8 @@ class SimplifyParams:
         >>> SimplifyParams().resolved(two).alpha  # sparse: the widest
         0.015
         >>> hatch = [np.hstack([t, 0.1 + 0.004 * k + 0 * t]) for k in range(60)]
-        >>> SimplifyParams().resolved(hatch).alpha  # dense: the paper's
-        0.012
+        >>> round(SimplifyParams().resolved(hatch).alpha, 4)  # dense: narrower, 1.5 x 0.4%
+        0.0062
         >>> short = [np.array([[0.0, 0.0], [0.02, 0.0]])] * 3  # strokes 2% of the diagonal
         >>> round(SimplifyParams().resolved(short).alpha, 6)
         0.01
@@ -425,8 +435,8 @@ class SimplifyParams:
             if unit_strokes:
                 cap = t.stroke_share * float(np.median(total_lengths(unit_strokes)))
                 wide = min(t.spacing_share * spacing, t.widest_alpha, cap)
-                alphas = [max(min(max(t.spacing_share * spacing, PAPER_ALPHA), t.loose_alpha,
-                                  cap), MIN_ALPHA)]
+                alphas = [max(min(max(t.spacing_share * spacing, t.narrowest_alpha),
+                                  t.loose_alpha, cap), MIN_ALPHA)]
                 if wider and wide >= t.wide_from:
                     tries = [wide, (wide + t.loose_alpha) / 2]
                     alphas = [w for w, banded in zip(tries, banded_shares(unit_strokes, tries,

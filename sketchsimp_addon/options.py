@@ -63,9 +63,9 @@ class SimplifyOptions:
         name="Bundle Width", default=0.0, min=0.0, max=0.2, precision=3,
         description="Width of a bundle of rough strokes as a fraction of the drawing's size "
         "(a stray mark far away on the layer does not count): strokes closer than this may "
-        "merge (alpha). 0: auto, measured from the ink (the paper's 0.012 where strokes are "
-        "dense, up to 0.015 where they lie far apart for the drawing's size, up to 0.03 "
-        "where the result that wide still keeps all the ink)")
+        "merge (alpha). 0: auto, measured from the ink (from 0.006 where strokes are dense, "
+        "half the paper's 0.012, up to 0.015 where they lie far apart for the drawing's "
+        "size, up to 0.03 where the result that wide still keeps all the ink)")
     samples: IntProperty(name="Shape Samples", default=DEFAULTS.samples, min=8, max=2048,
                          description="Points used to compare shapes (Fourier descriptor N); "
                          "more is finer and slower")

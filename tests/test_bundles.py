@@ -10,7 +10,7 @@ import pytest
 import shapely
 from metrics import turning, whole_lines
 
-from core import SimplifyParams, Sketch, Stroke, simplify
+from core import PAPER_ALPHA, SimplifyParams, Sketch, Stroke, simplify
 from core.lines.fit import band_split
 
 CANVAS = 500.0
@@ -79,15 +79,17 @@ def test_a_straight_edge_drawn_five_times_wandering_comes_out_straight():
 
 def test_a_bundles_line_does_not_keep_the_wiggle_of_its_longest_pass():
     """Four straight passes and a longer one wiggling 2 px every 20 px (a quarter of a
-    bundle width, every two): the fitted line, with the output's own smoothing off, is
-    straight. The longest pass is the spine; the line is the spine moved to the middle of
-    the ink and then smoothed, so the spine's wiggle goes with it (smoothing only the
-    offsets from it would give the wiggle back)."""
+    bundle width at the paper's width, every two): the fitted line, with the output's own
+    smoothing off, is straight. The longest pass is the spine; the line is the spine moved
+    to the middle of the ink and then smoothed, so the spine's wiggle goes with it
+    (smoothing only the offsets from it would give the wiggle back). The width is given:
+    alone on the page, a bundle this tight is dense ink, and "auto" gives it the
+    narrowest width, where the wiggle is most of one."""
     x = np.linspace(40, 460, 300)
     wiggly = np.stack([np.r_[30, x], 250 + np.r_[0, 2.0 * np.sin(2 * np.pi * x / 20)]], axis=1)
     straight = [np.stack([x, 250 + np.full_like(x, d)], axis=1) for d in (-0.6, -0.2, 0.2, 0.6)]
     out = simplify(Sketch([Stroke(p) for p in [wiggly] + straight], CANVAS, CANVAS),
-                   SimplifyParams(smoothing=0)).strokes
+                   SimplifyParams(smoothing=0, alpha=PAPER_ALPHA)).strokes
     assert len(out) == 1
     middle = out[0].points[(out[0].points[:, 0] > 100) & (out[0].points[:, 0] < 400)]
     assert np.ptp(middle[:, 1]) < 0.5  # the wiggle is 4 px from crest to trough

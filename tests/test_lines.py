@@ -437,6 +437,27 @@ def test_the_join_pass_keeps_close_lines_of_a_product_sketch_whole(name):
     assert whole[()] >= whole[("join",)] - 0.06
 
 
+def test_a_dense_product_sketch_gets_a_width_below_the_papers_and_keeps_more_lines_whole():
+    """The auto width follows the ink's spacing below the paper's 1.2% of the diagonal: a
+    product sketch's construction lines lie closer than that, and at the paper's width
+    they merge (designer2/cabinet_02: 0.84 of its reference curves whole at 1.2%, 0.94 at
+    its own width, 0.86%)."""
+    from core.params import PAPER_ALPHA
+
+    require_data()
+    path = (DATA / "lift3d_opensketch/CurvedStrokesPython/full_clusters/designer2/cabinet_02"
+            / "view1/lines_separation/full_cluster.scap")
+    sketch = read_sketch(path)
+    reference = [s.points for s in read_sketch(path.with_name("full_fit.scap")).strokes]
+    diagonal = float(np.hypot(sketch.width, sketch.height))
+    auto = simplify(sketch)
+    paper = simplify(sketch, SimplifyParams(alpha=PAPER_ALPHA))
+    assert auto.params.alpha < PAPER_ALPHA
+    whole = [whole_lines([s.points for s in r.strokes], reference, diagonal)
+             for r in (auto, paper)]
+    assert whole[0] >= whole[1] + 0.05, whole
+
+
 def test_more_smoothing_never_flattens_a_shape_nor_makes_it_less_smooth():
     """Smoothing is monotone (issue 50): a nose drawn twice and an eye drawn twice keep
     their shape at every Smoothing up to the slider's end, and turn no more as it grows.

@@ -28,7 +28,7 @@ def run(work: Work) -> Work:
     line_of = np.full(len(work.pieces), -1)
     for k, line in enumerate(lines):
         line_of[list(line.members)] = k
-    reach = work.tuning.snap * work.d
+    reach = work.tuning.snap * work.meet_d
     votes: Counter[tuple[End, End]] = Counter()
     same = (work.piece_stroke[1:] == work.piece_stroke[:-1]) & (
         work.piece_index[1:] == work.piece_index[:-1] + 1)

@@ -12,7 +12,9 @@ where its ink ends. Lines that cross farther from their ends go straight through
 nothing here moves them. Fitting Beziers
 (pass 10) moves a line a little, so after the fit each end that met a line is moved again
 onto that line's curve (:func:`met_ends`). Not at epsilon 0, which keeps every stroke as
-drawn.
+drawn. Here d_eps is at least ``tuning.meet_alpha`` (:attr:`Work.meet_d`): a dense
+drawing's narrower width keeps its close lines apart, not its ends off the lines they
+meet.
 
 Invariant: only ends and the stretch bent onto a line move, each point by at most
 ``over``; a line never gains or loses more than that at an end.
@@ -276,7 +278,7 @@ def run(work: Work) -> Work:
         return work.with_(lines=lines)
     points, meets = meet_at_junctions(
         [ln.points for ln in lines], [ln.closed for ln in lines],
-        Meeting.of(work.tuning, work.d, work.params.angle, work.h))
+        Meeting.of(work.tuning, work.meet_d, work.params.angle, work.h))
     return work.with_(lines=[ln if pts is ln.points and met == (None, None)
                              else Line(pts, ln.closed, ln.members, met)
                              for ln, pts, met in zip(lines, points, meets)])

@@ -94,9 +94,9 @@ def run(work: Work) -> Work:
     if not extra:
         return work.with_(lines=lines)
     everything = lines + extra
-    joins = _drawn_on(everything, range(len(lines), len(everything)), t.snap * work.d,
+    joins = _drawn_on(everything, range(len(lines), len(everything)), t.snap * work.meet_d,
                       t.follow_cos)
-    return work.with_(lines=chain(everything, joins, t.snap * work.d, work.h)
+    return work.with_(lines=chain(everything, joins, t.snap * work.meet_d, work.h)
                       if joins else everything)
 
 

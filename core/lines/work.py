@@ -76,6 +76,12 @@ a group label per piece, their connected components (``group``);
         return replace(self, **changes)
 
     @property
+    def meet_d(self) -> float:
+        """The bundle width ends meet lines and overshoots are cut by (passes 7-9): d_eps,
+        at least ``tuning.meet_alpha``."""
+        return max(self.d, self.tuning.meet_alpha)
+
+    @property
     def merged(self) -> bool:
         """Whether anything was simplified: at epsilon 0 each stroke stays as drawn."""
         return self.params.epsilon > 0
