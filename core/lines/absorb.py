@@ -25,8 +25,9 @@ def run(work: Work) -> Work:
         return work.with_(lines=lines)
     # each line's, once: asked about pair by pair (lines are still their pieces' fits)
     widths = {} if work.memo is None else work.memo.widths
+    gaps = {} if work.memo is None else work.memo.gaps
 
     def band(k: int, o: int) -> bool:
-        return len(one_band(lines, np.array([[k, o]]), work, widths)) == 1
+        return len(one_band(lines, np.array([[k, o]]), work, widths, gaps)) == 1
 
     return work.with_(lines=absorb_lines(lines, work, band))

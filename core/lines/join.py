@@ -216,7 +216,8 @@ def half_width(line: Line, work: Work, known) -> float:
 
 
 def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
-             known: dict[tuple[int, ...], float] | None = None) -> np.ndarray:
+             known: dict[tuple[int, ...], float] | None = None,
+             gaps: dict | None = None) -> np.ndarray:
     """The pairs whose inks leave no band free of ink wider than ``params.fill_gap`` (the
     drawing's own spacing of passes within a bundle) between them, or are one loose line
     whatever the band (:func:`core.lines.fit.one_loose_line`: not two tight bundles, and
@@ -224,18 +225,24 @@ def one_band(lines: list[Line], pairs: np.ndarray, work: Work,
     lines (the median distance from the shorter's points beside the longer to it) less
     the half-widths of both inks (:func:`half_width`). Two tight bundles drawn close keep
     a clear band; the passes of one loose line fill it, or stand alone. ``known``: the
-    half-widths by pieces, kept by a caller that asks about many pairs of the same lines."""
+    half-widths by pieces, kept by a caller that asks about many pairs of the same lines;
+    ``gaps``: the gaps by the two lines' pieces, likewise."""
     if not len(pairs):
         return pairs
     known = {} if known is None else known
+    gaps = {} if gaps is None else gaps
     chain = component_labels(len(lines), pairs)
     pieces_of: dict[int, list[int]] = {}  # each chain's pieces, once, where asked
     keep = np.zeros(len(pairs), bool)
     for k, (a, b) in enumerate(pairs.tolist()):
         short, long_ = (a, b) if lines[a].length <= lines[b].length else (b, a)
-        dist = project_on(lines[long_].points, lines[short].points).distance
-        beside = dist[dist <= work.d]
-        gap = float(np.median(beside)) if len(beside) else float(dist.min())
+        key = (lines[short].members, lines[long_].members)
+        gap = gaps.get(key)
+        if gap is None:
+            dist = project_on(lines[long_].points, lines[short].points).distance
+            beside = dist[dist <= work.d]
+            gap = float(np.median(beside)) if len(beside) else float(dist.min())
+            gaps[key] = gap
         widths = half_width(lines[a], work, known), half_width(lines[b], work, known)
         band = gap - sum(widths)
         if band <= work.params.fill_gap:
@@ -259,9 +266,10 @@ def run(work: Work) -> Work:
     # widths are kept by pieces from round to round
     fits: dict = {}
     widths = {} if work.memo is None else work.memo.widths
+    gaps = {} if work.memo is None else work.memo.gaps
     judged = {} if work.memo is None else work.memo.judged
     for _ in range(work.tuning.join_rounds):
-        pairs = one_band(lines, joined_pairs(lines, work, judged), work, widths)
+        pairs = one_band(lines, joined_pairs(lines, work, judged), work, widths, gaps)
         if not len(pairs):
             break
         joined = regroup(lines, pairs, work, fits)
