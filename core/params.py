@@ -47,7 +47,7 @@ class Tuning:
     #: the narrowest alpha (D) "auto" gives, half the paper's: a dense drawing's close
     #: lines kept apart, its lines' samples (a quarter of the width apart) bounded.
     #: decisions: "the width follows dense ink below the paper's"
-    narrowest_alpha: float = 0.006
+    narrowest_alpha: float = PAPER_ALPHA / 2
     #: the widest alpha (D) kept whatever its result. decisions: "The auto width's bounds"
     loose_alpha: float = 0.015
     #: an ink this wide (D, spacing_share times its spacing) or wider is first tried that
@@ -226,7 +226,7 @@ class Tuning:
     #: ... and snap and overshoot (passes 7-9) count d_eps as at least this (D): how far a
     #: hand's end misses a line does not narrow with a dense drawing's width. decisions:
     #: "the width follows dense ink below the paper's"
-    meet_alpha: float = 0.012
+    meet_alpha: float = PAPER_ALPHA
     #: an end crossing a line and running on at most this many d_eps is cut there.
     #: decisions: "one output stage, lines from the pen"
     overshoot: float = 2.0

@@ -94,10 +94,9 @@ def run(work: Work) -> Work:
     if not extra:
         return work.with_(lines=lines)
     everything = lines + extra
-    joins = _drawn_on(everything, range(len(lines), len(everything)), t.snap * work.meet_d,
-                      t.follow_cos)
-    return work.with_(lines=chain(everything, joins, t.snap * work.meet_d, work.h)
-                      if joins else everything)
+    snap = t.snap * work.meet_d
+    joins = _drawn_on(everything, range(len(lines), len(everything)), snap, t.follow_cos)
+    return work.with_(lines=chain(everything, joins, snap, work.h) if joins else everything)
 
 
 def _heading(points: np.ndarray, end: int, reach: float) -> np.ndarray:
