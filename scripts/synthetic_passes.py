@@ -2,7 +2,8 @@
 is known exactly, a loss is the simplification's, not the reference's.
 
     python scripts/synthetic_passes.py OUT.json [--root TREE] [--jobs N] [--data DIR]
-                                       [--param NAME=VALUE,...] [--kind KIND]
+                                       [--param NAME=VALUE,...] [--tuning NAME=VALUE,...]
+                                       [--kind KIND]
 
 The clean curves (``--kind``) are the lift3d designers' ``full_fit.scap`` curves of
 ``../shared/data`` (``product``, read in place, never copied), or drawings made here from
@@ -236,6 +237,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--data", type=Path, default=DATA, help="laid out as ../shared/data")
     ap.add_argument("--param", default="", help="options to change, as name=value,...")
+    ap.add_argument("--tuning", default="", help="pen tuning to change, as name=value,...")
     ap.add_argument("--offset", type=float, default=OFFSET,
                     help="sigma of a pass's constant offset (fraction of D)")
     ap.add_argument("--kind", choices=("product", "handwriting", "icons", "kanji"),
@@ -250,6 +252,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"no lift3d references under {args.data}: nothing to score")
         return 0
     options = assignments(args.param)
+    if args.tuning:
+        options["tuning"] = assignments(args.tuning)
     root = str(Path(args.root).resolve())
     with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
         rows = dict(pool.map(score_one, [(root, f, options, args.offset) for f in files]))
