@@ -102,14 +102,16 @@ def input_groups(sketch, result) -> list[int] | None:
 
 
 def assignments(text: str) -> dict[str, float]:
-    """``name=value,...`` (``--tuning``, ``--param``) as a dict; empty text, none.
+    """``name=value,...`` (``--tuning``, ``--param``) as a dict; empty text, none. A whole
+    number is an int (``samples``, ``join_rounds`` must be), any other a float.
 
     >>> assignments("smoothing=1,fit_error=0.25")
-    {'smoothing': 1.0, 'fit_error': 0.25}
+    {'smoothing': 1, 'fit_error': 0.25}
     >>> assignments("")
     {}
     """
-    return {k: float(v) for k, v in (item.split("=") for item in text.split(",") if item)}
+    return {k: int(v) if v.strip().lstrip("+-").isdigit() else float(v)
+            for k, v in (item.split("=") for item in text.split(",") if item)}
 
 
 def score_one(args: tuple[str, str, str, str | None, dict]) -> tuple[str, dict]:

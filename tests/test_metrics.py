@@ -176,3 +176,18 @@ def test_a_kanji_drawing_draws_each_wide_stroke_once():
             for o, other in enumerate(lines):
                 if o != k:
                     assert (shapely.distance(points, other) <= DOUBLE_REACH).mean() < 0.8
+
+
+def test_join_refusals_names_the_joint_fit_for_passes_it_moves_and_fewer_under_a_wider_reach():
+    """scripts/join_refusals.py: on a synthetic handwriting drawing, some passes of one
+    curve are left apart by the joint fit's move test (a lone pass beside its bundle);
+    with ``join_reach`` four times wider fewer are, and every reason is a named one."""
+    pytest.importorskip("HersheyFonts")
+    from join_refusals import REASONS, one
+
+    def moved(tuning: dict) -> int:
+        _, rows = one(("handwriting/0", tuning))
+        assert rows and all(r["reason"] in REASONS for r in rows)
+        return sum(r["true"] and r["reason"] == "joint fit" for r in rows)
+
+    assert moved({}) > moved({"join_reach": 2.0})
