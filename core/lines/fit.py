@@ -325,9 +325,10 @@ def lies_apart(points: np.ndarray, own, reach: float, ink: Segments, share: floa
     """
     most = (1 - share) * len(points)  # points with other ink near, at most
     near = 0
+    tree, number = ink.whole  # which polylines come near, not which of their segments
     for half in (points[0::2], points[1::2]):  # the second half asked only where the
-        i, seg = ink.tree.query(shapely.points(half), predicate="dwithin", distance=reach)
-        near += len(np.unique(i[~np.isin(ink.polyline[seg], own)]))  # first leaves it open
+        i, k = tree.query(shapely.points(half), predicate="dwithin", distance=reach)
+        near += len(np.unique(i[~np.isin(number[k], own)]))  # first leaves it open
         if near > most:
             return False
     return True
