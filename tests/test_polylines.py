@@ -112,6 +112,25 @@ def test_where_points_come_nearest_along_segments_is_geos_answer_to_the_bit():
             == shapely.line_locate_point(segs.lines[seg], shapely.points(points))).all()
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_the_lines_a_reach_finds_whole_are_those_its_single_segments_find(seed):
+    """``Segments.whole`` (one LineString per polyline) against the tree of single
+    segments: the same (point, polyline) pairs within every reach, with polylines of one
+    point (no segment) among them, points on the lines and on a grid."""
+    rng = np.random.default_rng(seed)
+    lines = [rng.integers(0, 8, (rng.integers(1, 15), 2)).astype(float) for _ in range(12)]
+    lines += _polylines(seed)[:6]
+    segs = Segments.of(lines)
+    tree, number = segs.whole
+    points = shapely.points(np.concatenate([rng.integers(-1, 9, (300, 2)).astype(float),
+                                            rng.uniform(-1, 9, (300, 2))]))
+    for reach in (0.0, 0.5, 1.0, 2.5):
+        i, k = tree.query(points, predicate="dwithin", distance=reach)
+        j, seg = segs.tree.query(points, predicate="dwithin", distance=reach)
+        whole = set(zip(i.tolist(), number[k].tolist()))
+        assert len(whole) == len(i) and whole == set(zip(j.tolist(), segs.polyline[seg].tolist()))
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_a_small_nearest_query_finds_the_segment_a_tree_finds(seed, monkeypatch):
     """Measured pair by pair (few points against few segments), the nearest segment is the
