@@ -34,7 +34,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import zlib
 from collections import Counter
 from multiprocessing import Pool
 from pathlib import Path
@@ -62,12 +61,10 @@ def sketch_of(source: str):
         sketch = read_sketch(source)
         return (Sketch([Stroke(s.points, source_id=k) for k, s in enumerate(sketch.strokes)],
                        sketch.width, sketch.height), [s.cluster for s in sketch.strokes])
-    from synthetic_passes import clean_curves, rough_passes
+    from synthetic_passes import synthetic_sketch
 
-    curves, width, height = clean_curves(source)
-    ink, labels = rough_passes(curves, float(np.hypot(width, height)),
-                               zlib.crc32(Path(source).as_posix().encode()))
-    return Sketch([Stroke(p, source_id=k) for k, p in enumerate(ink)], width, height), labels
+    sketch, labels, _, _ = synthetic_sketch(source)
+    return sketch, labels
 
 
 def left_apart(work, piece_label: np.ndarray) -> list[dict]:

@@ -204,18 +204,29 @@ def clean_curves(source: str) -> tuple[list[np.ndarray], float, float]:
     return [s.points for s in clean.strokes if len(s.points) >= 2], clean.width, clean.height
 
 
+def synthetic_sketch(source: str, offset: float = OFFSET):
+    """The rough passes of ``source``'s clean curves (:func:`clean_curves`,
+    :func:`rough_passes`, seeded by the source's name) as a sketch, each stroke's
+    ``source_id`` its index; with each pass's label, the clean curves and the diagonal."""
+    from core import Sketch, Stroke
+
+    reference, width, height = clean_curves(source)
+    diagonal = float(np.hypot(width, height))
+    ink, labels = rough_passes(reference, diagonal,
+                               zlib.crc32(Path(source).as_posix().encode()), offset)
+    sketch = Sketch([Stroke(p, source_id=k) for k, p in enumerate(ink)], width, height)
+    return sketch, labels, reference, diagonal
+
+
 def score_one(args: tuple[str, str, dict, float]) -> tuple[str, dict]:
     root, path, options, offset = args
     use_checkout(root)
     import metrics
 
-    from core import SimplifyParams, Sketch, Stroke, simplify
+    from core import SimplifyParams, simplify
 
-    reference, width, height = clean_curves(path)
-    diagonal = float(np.hypot(width, height))
-    ink, labels = rough_passes(reference, diagonal,
-                               zlib.crc32(Path(path).as_posix().encode()), offset)
-    sketch = Sketch([Stroke(p, source_id=k) for k, p in enumerate(ink)], width, height)
+    sketch, labels, reference, diagonal = synthetic_sketch(path, offset)
+    ink = [s.points for s in sketch.strokes]
     result = simplify(sketch, SimplifyParams(**options))
     out = [s.points for s in result.strokes]
     precision, recall = metrics.pair_precision_recall(np.array(input_groups(sketch, result)),

@@ -24,8 +24,7 @@ def run(work: Work) -> Work:
     if not work.merged:
         return work.with_(lines=lines)
     # each line's, once: asked about pair by pair (lines are still their pieces' fits)
-    widths = {} if work.memo is None else work.memo.widths
-    gaps = {} if work.memo is None else work.memo.gaps
+    widths, gaps = work.store("widths"), work.store("gaps")
 
     def band(k: int, o: int) -> bool:
         return len(one_band(lines, np.array([[k, o]]), work, widths, gaps)) == 1

@@ -265,9 +265,7 @@ def run(work: Work) -> Work:
     # within this pass every line is its pieces' fit (pass 4's, or a join's): fits and
     # widths are kept by pieces from round to round
     fits: dict = {}
-    widths = {} if work.memo is None else work.memo.widths
-    gaps = {} if work.memo is None else work.memo.gaps
-    judged = {} if work.memo is None else work.memo.judged
+    widths, gaps, judged = work.store("widths"), work.store("gaps"), work.store("judged")
     for _ in range(work.tuning.join_rounds):
         pairs = one_band(lines, joined_pairs(lines, work, judged), work, widths, gaps)
         if not len(pairs):

@@ -75,6 +75,11 @@ a group label per piece, their connected components (``group``);
     def with_(self, **changes) -> Work:
         return replace(self, **changes)
 
+    def store(self, name: str):
+        """The memo's store ``name`` (a :class:`core.curves.memo.StrokeMemo` field), shared
+        by a result and its replays; without a memo, a dict of this call's own."""
+        return {} if self.memo is None else getattr(self.memo, name)
+
     @property
     def meet_d(self) -> float:
         """The bundle width ends meet lines and overshoots are cut by (passes 7-9): d_eps,
