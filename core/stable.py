@@ -43,8 +43,8 @@ from .arrays.geometry import Reached, Segments, tangents_each
 from .arrays.polylines import resample_polyline
 from .sketch import Stroke
 
-__all__ = ["DAMPING", "HELD", "MISSED", "PART", "ROUNDS", "RUNNING_COS", "STILL", "Carried",
-           "Motion", "carried", "held_to", "motion_onto"]
+__all__ = ["DAMPING", "HELD", "MISSED", "PART", "ROUNDS", "RUNNING_COS", "SPACING", "STILL",
+           "Carried", "Motion", "carried", "held_to", "motion_onto"]
 
 #: a previous stroke with more than this share of it off the new result is not kept
 MISSED = 0.05
@@ -61,6 +61,10 @@ STILL = 0.075
 PART = 0.25
 #: a new stroke's point is drawn by a kept stroke that runs along it: |cos| at least this
 RUNNING_COS = 0.9
+#: strokes are sampled every this share of the bundle width, for the motions' fits and
+#: for the shares within the width: a rigid motion is found to well under the width from
+#: two samples a width, and a share counted to a few percent of a stroke
+SPACING = 0.5
 #: fits of the motion, each from where the last took the strokes: a drawing moved about the
 #: bundle width in a key is followed to within a hundredth of it in three
 ROUNDS = 3
@@ -78,7 +82,7 @@ def _near(strokes: list[Stroke], others: list[Stroke], width: float
     if not strokes or not lines:
         return np.zeros(len(strokes)), touched
     reached = Reached.of([s.points for s in strokes], [others[k].points for k in lines],
-                         width, width / 2)
+                         width, SPACING * width)
     for k, o in zip(reached.polyline[reached.sample].tolist(), reached.line.tolist()):
         touched[k].add(lines[o])
     return reached.shares(), touched
@@ -214,8 +218,7 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
     if not strokes or not lines:
         return Carried(list(strokes), *_near(strokes, support, width))
     segs = Segments.of(lines)
-    spacing = width / 4
-    points = [resample_polyline(s.points, spacing) for s in strokes]
+    points = [resample_polyline(s.points, SPACING * width) for s in strokes]
     whole, = _fitted([points], segs, width, [STILLNESS], ROUNDS)
     flat = np.concatenate(points)
     if np.mean(np.hypot(*(whole(flat) - flat).T)) < STILL * width:

@@ -41,7 +41,7 @@ from .records import DrawingResult, Prepared, RunReport
 from .write import fill_materials
 
 __all__ = [
-    "HELD", "HELD_ENTRIES", "held_across_frames", "KEPT_IDLE", "kept_pool", "POOL_FROM",
+    "HELD", "HELD_ENTRIES", "held_across_frames", "Holding", "KEPT_IDLE", "kept_pool", "POOL_FROM",
     "REPLAY", "results_of", "simplified_here", "simplify_curve_object", "simplify_object",
     "StepwiseRun", "stop_kept_pool", "stop_kept_pool_if_idle",
 ]
@@ -85,6 +85,11 @@ def _fills_wanted(options) -> bool:
     return bool(options.fill_regions and not options.as_curve)
 
 
+def _stable_wanted(options) -> bool:
+    """Whether the run holds its keyframes to each other: asked for, over keyframes."""
+    return bool(options.stable and options.scope in ("ALL", "RANGE"))
+
+
 def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport
                ) -> list[DrawingResult]:
     """The new strokes of each drawing of ``gathered.prepared`` whose output is in
@@ -95,7 +100,7 @@ def results_of(obj, options, gathered: Gathered, outputs: list, report: RunRepor
     outputs = [outputs[k] for k in finished]
     empty, held = gathered.empty, gathered.held
     fills = _fills_wanted(options)
-    if options.stable and options.scope in ("ALL", "RANGE"):
+    if _stable_wanted(options):
         outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
     results = []
@@ -213,6 +218,8 @@ class StepwiseRun:
         self.gathered = gather_drawings(obj, options, frame_number, self.report, frame_range)
         self.fills = fills = _fills_wanted(options)
         prepared = self.gathered.prepared
+        # Stable Across Frames held as the drawings finish, while the pool works on
+        self._holding = Holding(prepared) if _stable_wanted(options) else None
         if engine is not None:  # everything there, at the first step
             self.outputs: list = [None] * len(prepared)
             self._at_once = lambda: engine([p.sketch for p in prepared], fills)
@@ -272,6 +279,8 @@ class StepwiseRun:
             k = self._here.popleft()
             self.outputs[k] = simplified_here(self.gathered.prepared[k].sketch, self.params,
                                               self.fills)
+        if self._holding is not None:
+            self._holding.advance(self.outputs)
 
     def _took(self, pooled: list[int], outputs: list) -> None:
         """The pool's outputs (None: not yet) for drawings ``pooled``: kept for lookups,
@@ -338,25 +347,60 @@ def held_across_frames(prepared: list[Prepared], outputs: list) -> list:
     (:func:`core.held_to`): the previous lines brought onto this drawing's plane, kept
     where this drawing's ink still runs along them within the bundle width, carried along
     where it moved. What was held from the same strokes before is looked up (:data:`HELD`)."""
-    out = list(outputs)
-    previous: dict[int, tuple] = {}  # layer -> (its last strokes, their plane)
-    order = sorted(range(len(prepared)), key=lambda k: (prepared[k].layer.as_pointer(),
-                                                        prepared[k].frames[0].frame_number))
-    for k in order:
-        layer, plane = prepared[k].layer, prepared[k].plane
-        if isinstance(out[k], SketchError):
-            continue
-        before = previous.get(layer.as_pointer())
-        if before is not None:
-            strokes, was = before
-            moved = [stroke_moved(s, was, plane) for s in strokes]
-            key = (strokes_digest(moved), strokes_digest(out[k].strokes), out[k].width,
-                   sketch_digest(prepared[k].sketch))
-            held = HELD.get(key)
-            if held is None:
-                held = held_to(moved, out[k].strokes, out[k].width,
-                               prepared[k].sketch.strokes)
-                HELD.put(key, held)
-            out[k] = replace(out[k], strokes=held)
-        previous[layer.as_pointer()] = (out[k].strokes, plane)
-    return out
+    holding = Holding(prepared)
+    holding.advance(outputs)
+    return holding.held(outputs)
+
+
+class Holding:
+    """:func:`held_across_frames` a keyframe at a time, as a run's drawings finish: each
+    layer's keyframes, in frame order, are held as far as the first not yet finished, so
+    that a run holds while its pool works and :meth:`held` at the end is the same as
+    holding then. Each keyframe is held once, through :data:`HELD`.
+
+    Args:
+        prepared: the drawings of the run, each with its layer and plane.
+    """
+
+    def __init__(self, prepared: list[Prepared]) -> None:
+        self.prepared = prepared
+        chains: dict[int, list[int]] = {}  # layer -> its drawings, in frame order
+        for k in sorted(range(len(prepared)),
+                        key=lambda k: prepared[k].frames[0].frame_number):
+            chains.setdefault(prepared[k].layer.as_pointer(), []).append(k)
+        self._chains = list(chains.values())
+        self._next = [0] * len(self._chains)  # each chain's first keyframe not yet held
+        self._previous: list[tuple | None] = [None] * len(self._chains)  # last strokes, plane
+        self._held: dict[int, list] = {}  # drawing -> its held strokes
+
+    def advance(self, outputs: list) -> None:
+        """Hold every layer's keyframes whose output (None: not yet) and all before it in
+        the layer are in ``outputs`` (a :class:`SketchError` is passed over)."""
+        for c, chain in enumerate(self._chains):
+            while self._next[c] < len(chain) and outputs[chain[self._next[c]]] is not None:
+                k = chain[self._next[c]]
+                self._next[c] += 1
+                out = outputs[k]
+                if isinstance(out, SketchError):
+                    continue
+                plane = self.prepared[k].plane
+                if self._previous[c] is not None:
+                    self._held[k] = self._hold(k, out, *self._previous[c])
+                self._previous[c] = (self._held.get(k, out.strokes), plane)
+
+    def held(self, outputs: list) -> list:
+        """``outputs`` with the strokes of each keyframe held so far replaced."""
+        return [replace(out, strokes=self._held[k]) if k in self._held else out
+                for k, out in enumerate(outputs)]
+
+    def _hold(self, k: int, out, strokes: list, was) -> list:
+        plane = self.prepared[k].plane
+        moved = [stroke_moved(s, was, plane) for s in strokes]
+        sketch = self.prepared[k].sketch
+        key = (strokes_digest(moved), strokes_digest(out.strokes), out.width,
+               sketch_digest(sketch))
+        held = HELD.get(key)
+        if held is None:
+            held = held_to(moved, out.strokes, out.width, sketch.strokes)
+            HELD.put(key, held)
+        return held
