@@ -605,6 +605,48 @@ def test_a_redo_step_holds_again_only_the_keyframes_whose_lines_changed(monkeypa
                for a, b in zip(afresh, step))
 
 
+def test_a_stepwise_run_holds_each_keyframe_once_as_soon_as_those_before_it_are_done(
+        monkeypatch):
+    """Stable Across Frames while the run goes on (run.Holding): after each drawing, the
+    keyframes held are exactly those with every keyframe before them in their layer done;
+    each is held once (finishing looks them up), and the strokes written are those that
+    holding everything at the end gives."""
+    from types import SimpleNamespace
+
+    from sketchsimp.core import ReplayCache, SimplifyParams
+    from sketchsimp.core.curves.memo import LruStore
+    from sketchsimp.sketchsimp_addon import run
+
+    rng = np.random.default_rng(2)
+    house = sample_points("house")
+    ob = make_object({k: None for k in (1, 2, 3, 4)})
+    for frame in ob.data.layers["Lines"].frames:
+        fill_drawing(frame.drawing, [s + rng.normal(0, 0.5 * SCALE, s.shape).astype(
+            np.float32) for s in house])
+    options = SimpleNamespace(scope="ALL", layers="ACTIVE", output="LAYER", hide_source=True,
+                              as_curve=False, fill_regions=False, stable=True)
+    calls = []
+    held_to = run.held_to
+    monkeypatch.setattr(run, "held_to", lambda *a: calls.append(1) or held_to(*a))
+    monkeypatch.setattr(run, "HELD", LruStore(run.HELD_ENTRIES))
+    monkeypatch.setattr(run, "REPLAY", ReplayCache())
+    stepwise = run.StepwiseRun(ob, options, SimplifyParams(), 1, jobs=1)
+    counts = []
+    while not stepwise.done:
+        stepwise.step()
+        counts.append(len(calls))
+    assert counts == [0, 1, 2, 3]  # a drawing a step, in frame order: held as it comes
+    results = stepwise.finish()
+    assert len(calls) == 3
+    monkeypatch.setattr(run, "HELD", LruStore(run.HELD_ENTRIES))  # held afresh, at the end
+    at_end = run.results_of(ob, options, stepwise.gathered, stepwise.outputs,
+                            run.RunReport())
+    assert len(calls) == 6
+    assert [len(r.new.knots) for r in results] == [len(r.new.knots) for r in at_end]
+    assert all(np.array_equal(a, b) for r, e in zip(results, at_end)
+               for a, b in zip(r.new.knots, e.new.knots))
+
+
 def test_a_drawing_moved_from_key_to_key_is_followed_when_stable():
     """The house moved 0.3% of its diagonal a keyframe along X over five keyframes: held
     to each other, the outputs keep their strokes and lie on each keyframe's own ink (the
