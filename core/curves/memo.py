@@ -107,6 +107,10 @@ class StrokeMemo:
     #: its pieces' indices (passes 5 and 6, which run only above epsilon 0, where a line
     #: is the fit of its pieces)
     widths: LruStore[tuple[int, ...], float] = field(default_factory=LruStore)
+    #: how far a joint fit moves the lines it joins (:func:`core.lines.fit._joint_fits`),
+    #: by the lines' pieces and the joint lines' pieces (pass 5, each line the fit of its
+    #: pieces)
+    moves: LruStore[tuple, float] = field(default_factory=LruStore)
     #: the gap between two lines (:func:`core.lines.join.one_band`), by the shorter's and
     #: the longer's pieces' indices (passes 5 and 6, as ``widths``)
     gaps: LruStore[tuple[tuple[int, ...], tuple[int, ...]], float] = field(

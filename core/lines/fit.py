@@ -743,8 +743,14 @@ def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: lis
     close among others would both move to a line between them; passes of one loose line
     drawn in open paper are one line, however far apart."""
     t = work.tuning
-    segs = Segments.of([ln.points for ln in joint])
-    move = max(float(np.quantile(segs.distance(ln.points), t.join_share)) for ln in before)
+    moves = work.store("moves")
+    key = (tuple(ln.members for ln in before), tuple(ln.members for ln in joint))
+    move = moves.get(key)
+    if move is None:
+        segs = Segments.of([ln.points for ln in joint])
+        move = max(float(np.quantile(segs.distance(ln.points), t.join_share))
+                   for ln in before)
+        moves[key] = move
     if move <= t.join_reach * work.d:
         return True
     return lies_apart(np.concatenate([ln.points for ln in joint]), own, t.apart * move, every,

@@ -27,8 +27,10 @@ class Line:
     members: tuple[int, ...]
     meets: tuple[int | None, int | None] = (None, None)
 
-    @property
+    @cached_property
     def length(self) -> float:
+        """Its length, measured when first asked for (the points are never changed in
+        place: a pass makes a new line)."""
         d = np.diff(self.points, axis=0)
         return float(np.hypot(d[:, 0], d[:, 1]).sum())
 
