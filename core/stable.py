@@ -258,8 +258,13 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
                            bezier=None if stroke.bezier is None else motion(stroke.bezier)))
     # a stroke the fit took farther off what holds it (matched to the wrong lines) stays
     # as it was
-    after, after_near = _near(out, support, width)
     before, before_near = _near(strokes, support, width)
+    after, after_near = before.copy(), list(before_near)  # a stroke left still: as before
+    went = [k for k, (m, s) in enumerate(zip(out, strokes)) if m is not s]
+    if went:
+        after[went], near = _near([out[k] for k in went], support, width)
+        for k, n in zip(went, near):
+            after_near[k] = n
     moved = after >= before
     return Carried([m if ok else s for m, s, ok in zip(out, strokes, moved)],
                    np.where(moved, after, before),
