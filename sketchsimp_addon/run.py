@@ -90,17 +90,20 @@ def _stable_wanted(options) -> bool:
     return bool(options.stable and options.scope in ("ALL", "RANGE"))
 
 
-def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport
-               ) -> list[DrawingResult]:
+def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport,
+               holding: Holding | None = None) -> list[DrawingResult]:
     """The new strokes of each drawing of ``gathered.prepared`` whose output is in
     ``outputs`` (None where it is not: a cancelled run gives only what finished), and the
-    empty keyframes to keep; counts and skips go to ``report``."""
+    empty keyframes to keep; counts and skips go to ``report``. ``holding``: where every
+    drawing finished, the run's :class:`Holding`, which has held them all already."""
+    if holding is not None:
+        outputs = holding.held(outputs)
     finished = [k for k, out in enumerate(outputs) if out is not None]
     prepared = [gathered.prepared[k] for k in finished]
     outputs = [outputs[k] for k in finished]
     empty, held = gathered.empty, gathered.held
     fills = _fills_wanted(options)
-    if _stable_wanted(options):
+    if _stable_wanted(options) and holding is None:
         outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
     results = []
@@ -302,8 +305,11 @@ class StepwiseRun:
                 self._kept[0].cancel()
             self.report.notes.append(f"cancelled: {self.finished} of {self.total} "
                                      "drawing(s) done, the rest left as they were")
+        holding = self._holding if self.done else None  # else held over what finished
+        if holding is not None:
+            holding.advance(self.outputs)  # an engine's outputs: all at once
         results = results_of(self.obj, self.options, self.gathered, self.outputs,
-                             self.report)
+                             self.report, holding)
         self.report.seconds = time.perf_counter() - self.t0
         return results
 
