@@ -41,9 +41,9 @@ from .records import DrawingResult, Prepared, RunReport
 from .write import fill_materials
 
 __all__ = [
-    "HELD", "HELD_ENTRIES", "held_across_frames", "Holding", "KEPT_IDLE", "kept_pool", "POOL_FROM",
-    "REPLAY", "results_of", "simplified_here", "simplify_curve_object", "simplify_object",
-    "StepwiseRun", "stop_kept_pool", "stop_kept_pool_if_idle",
+    "HELD", "HELD_ENTRIES", "held_across_frames", "Holding", "KEPT_IDLE", "kept_pool",
+    "POOL_FROM", "REPLAY", "results_of", "simplified_here", "simplify_curve_object",
+    "simplify_object", "StepwiseRun", "stop_kept_pool", "stop_kept_pool_if_idle",
 ]
 
 
@@ -389,10 +389,9 @@ class Holding:
                 out = outputs[k]
                 if isinstance(out, SketchError):
                     continue
-                plane = self.prepared[k].plane
                 if self._previous[c] is not None:
                     self._held[k] = self._hold(k, out, *self._previous[c])
-                self._previous[c] = (self._held.get(k, out.strokes), plane)
+                self._previous[c] = (self._held.get(k, out.strokes), self.prepared[k].plane)
 
     def held(self, outputs: list) -> list:
         """``outputs`` with the strokes of each keyframe held so far replaced."""
@@ -400,6 +399,8 @@ class Holding:
                 for k, out in enumerate(outputs)]
 
     def _hold(self, k: int, out, strokes: list, was) -> list:
+        """Drawing ``k``'s ``out`` held to the ``strokes`` before it, drawn on plane
+        ``was``."""
         plane = self.prepared[k].plane
         moved = [stroke_moved(s, was, plane) for s in strokes]
         sketch = self.prepared[k].sketch
