@@ -26,7 +26,11 @@ the two lines alone:
 
 Pairs farther apart than d_eps are counted as ``wider than d_eps``. Printed per reason:
 true and false pairs; the true ones left apart are doubled lines, the false ones the
-tests' work. Figures: ``docs/decisions.md``, "why pass 5 leaves passes of one line apart".
+tests' work. And the drawing order, evidence none of the tests asks for: the share of
+each drawn *interleaved* (each line has a stroke drawn before one of the other's and one
+after: the pen went back and forth between them), and the median *order gap* (the
+fewest strokes between one of each). Figures: ``docs/decisions.md``, "why pass 5 leaves
+passes of one line apart" and "drawing order as evidence".
 """
 
 from __future__ import annotations
@@ -50,7 +54,7 @@ REACH = 3.0
 PURE = 0.8
 REASONS = ("not along", "band", "joint fit", "each test passes", "wider than d_eps")
 
-__all__ = ["REASONS", "left_apart", "main", "sketch_of"]
+__all__ = ["REASONS", "drawn_order", "left_apart", "main", "sketch_of"]
 
 
 def sketch_of(source: str):
@@ -67,9 +71,22 @@ def sketch_of(source: str):
     return sketch, labels
 
 
+def drawn_order(a: np.ndarray, b: np.ndarray) -> tuple[bool, int]:
+    """Of two lines drawn by strokes ``a`` and ``b`` (their indices in drawing order):
+    whether they were drawn interleaved, and the fewest strokes between one of each (0:
+    a stroke of both).
+
+    >>> drawn_order(np.array([3, 5]), np.array([4])), drawn_order(np.array([1, 2]), np.array([6]))
+    ((True, 1), (False, 4))
+    """
+    gap = int(np.abs(a[:, None] - b[None, :]).min())
+    return bool(a.min() < b.max() and b.min() < a.max()), gap
+
+
 def left_apart(work, piece_label: np.ndarray) -> list[dict]:
     """The pairs (see the module) among ``work``'s lines after pass 5, given each piece's
-    label: for each, ``true``, ``gap`` (d_eps) and ``reason`` (one of :data:`REASONS`)."""
+    label: for each, ``true``, ``gap`` (d_eps), ``reason`` (one of :data:`REASONS`),
+    ``interleaved`` and ``order_gap`` (:func:`drawn_order`)."""
     from core.arrays.geometry import Segments, project_on, tangents
     from core.lines import fit, join
 
@@ -104,7 +121,11 @@ def left_apart(work, piece_label: np.ndarray) -> list[dict]:
                 reason = "joint fit"
             else:
                 reason = "each test passes"
-            rows.append({"true": bool(label[i] == label[j]), "gap": gap / d, "reason": reason})
+            interleaved, order_gap = drawn_order(
+                np.unique(work.piece_stroke[list(ln.members)]),
+                np.unique(work.piece_stroke[list(lines[j].members)]))
+            rows.append({"true": bool(label[i] == label[j]), "gap": gap / d, "reason": reason,
+                         "interleaved": interleaved, "order_gap": order_gap})
     return rows
 
 
@@ -161,8 +182,17 @@ def main(argv: list[str] | None = None) -> int:
     counts = Counter((r["true"], r["reason"]) for r in pairs)
     print(f"{args.kind}: {len(files)} sketches, {len(pairs)} pairs left apart "
           f"({sum(r['true'] for r in pairs)} of one label)")
+    print(f"  {'':18s} {'true':>10s} {'false':>6s}   interleaved true / false   "
+          "order gap true / false")
     for reason in REASONS:
-        print(f"  {reason:18s} true {counts[True, reason]:5d}  false {counts[False, reason]:5d}")
+        of = [[r for r in pairs if r["reason"] == reason and r["true"] is t]
+              for t in (True, False)]
+        shares = " / ".join(f"{np.mean([r['interleaved'] for r in rs]):.2f}" if rs else "-"
+                            for rs in of)
+        gaps = " / ".join(f"{np.median([r['order_gap'] for r in rs]):.0f}" if rs else "-"
+                          for rs in of)
+        print(f"  {reason:18s} {counts[True, reason]:10d} {counts[False, reason]:6d}   "
+              f"{shares:>24s}   {gaps:>22s}")
     errors = [k for k, v in rows.items() if isinstance(v, dict)]
     if errors:
         print(f"failures: {len(errors)} {errors[:3]}")

@@ -191,3 +191,21 @@ def test_join_refusals_names_the_joint_fit_for_passes_it_moves_and_fewer_under_a
         return sum(r["true"] and r["reason"] == "joint fit" for r in rows)
 
     assert moved({}) > moved({"join_reach": 2.0})
+
+
+def test_join_refusals_finds_passes_of_one_line_drawn_back_and_forth_on_a_real_sketch():
+    """scripts/join_refusals.py's drawing order, on a real labelled product sketch drawn in
+    order: some pair of one label left apart was drawn interleaved, and the pairs of two
+    labels lie farther apart in the order than those of one (median order gap)."""
+    from join_refusals import DATA, one, sources
+
+    files = [f for f in sources("lift3d", DATA) if "designer2" in f or "student" in f]
+    if not files:
+        pytest.skip(f"no lift3d sketches under {DATA}")
+    _, rows = one((files[0], {}))
+    true = [r for r in rows if r["true"]]
+    false = [r for r in rows if not r["true"]]
+    assert true and false
+    assert any(r["interleaved"] for r in true)
+    assert np.median([r["order_gap"] for r in false]) > np.median([r["order_gap"]
+                                                                   for r in true])
