@@ -83,10 +83,11 @@ def drawn_order(a: np.ndarray, b: np.ndarray) -> tuple[bool, int]:
     return bool(a.min() < b.max() and b.min() < a.max()), gap
 
 
-def left_apart(work, piece_label: np.ndarray) -> list[dict]:
+def left_apart(work, piece_label: np.ndarray, piece_source: np.ndarray) -> list[dict]:
     """The pairs (see the module) among ``work``'s lines after pass 5, given each piece's
-    label: for each, ``true``, ``gap`` (d_eps), ``reason`` (one of :data:`REASONS`),
-    ``interleaved`` and ``order_gap`` (:func:`drawn_order`)."""
+    label and input stroke (its index in the input, in drawing order): for each, ``true``,
+    ``gap`` (d_eps), ``reason`` (one of :data:`REASONS`), ``interleaved`` and
+    ``order_gap`` (:func:`drawn_order`)."""
     from core.arrays.geometry import Segments, project_on, tangents
     from core.lines import fit, join
 
@@ -121,9 +122,8 @@ def left_apart(work, piece_label: np.ndarray) -> list[dict]:
                 reason = "joint fit"
             else:
                 reason = "each test passes"
-            interleaved, order_gap = drawn_order(
-                np.unique(work.piece_stroke[list(ln.members)]),
-                np.unique(work.piece_stroke[list(lines[j].members)]))
+            interleaved, order_gap = drawn_order(np.unique(piece_source[list(ln.members)]),
+                                                 np.unique(piece_source[list(lines[j].members)]))
             rows.append({"true": bool(label[i] == label[j]), "gap": gap / d, "reason": reason,
                          "interleaved": interleaved, "order_gap": order_gap})
     return rows
@@ -143,8 +143,10 @@ def one(args: tuple[str, dict]) -> tuple[str, list[dict] | dict]:
         work = after["join"]
     except Exception as exc:  # noqa: BLE001 - a failure is a result here
         return source, {"error": f"{type(exc).__name__}: {exc}"}
-    stroke_label = np.asarray(labels)[[s.source_id for s in result.cleaned.strokes]]
-    return source, left_apart(work, stroke_label[work.piece_stroke])
+    # the cleaned strokes (those of one point and more) by their index in the input
+    stroke_source = np.array([s.source_id for s in result.cleaned.strokes], dtype=np.intp)
+    return source, left_apart(work, np.asarray(labels)[stroke_source][work.piece_stroke],
+                              stroke_source[work.piece_stroke])
 
 
 def sources(kind: str, data: Path) -> list[str]:
