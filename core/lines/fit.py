@@ -600,32 +600,59 @@ def _parting_of(pairs: np.ndarray, work: Work) -> np.ndarray:
     return out
 
 
-def along_pairs(lines: list[Line], work: Work) -> np.ndarray:
+def along_pairs(lines: list[Line], work: Work, asked: np.ndarray | None = None
+                ) -> np.ndarray:
     """Pairs (shorter, longer) of lines of which the shorter lies along the longer: at
     least ``tuning.along_share`` of its points within d_eps of it, running within
-    ``tuning.along_cos`` of its direction (pass 5)."""
+    ``tuning.along_cos`` of its direction (pass 5). Of two as long, the smaller index is
+    the shorter. ``asked``: (k, 2) the pairs (either way round) to answer for, each a
+    function of its two lines alone (default: every pair); only the asked shorter lines'
+    points are measured, and only against the asked longer lines.
+
+    >>> from core.lines.work import Line
+    >>> x = np.linspace(0, 10, 21)[:, None]
+    >>> line = lambda y, n=21: Line(np.hstack([x[:n], 0 * x[:n] + y]), False, ())
+    >>> w = Work(None, None, Tuning(), 1.0, 0.5, [])
+    >>> lines = [line(0.0), line(0.5, 11), line(5.0, 11)]
+    >>> along_pairs(lines, w).tolist(), along_pairs(lines, w, np.array([[0, 2]])).tolist()
+    ([[1, 0]], [])
+    """
     if len(lines) < 2:
         return np.zeros((0, 2), dtype=np.intp)
-    pts = [ln.points for ln in lines]
-    segs = Segments.of(pts)
+    n = len(lines)
     lengths = np.array([ln.length for ln in lines])
+    if asked is None:
+        shorter = longer = np.arange(n)
+        wanted = None
+    else:
+        a, b = asked[:, 0], asked[:, 1]
+        swap = (lengths[a] > lengths[b]) | ((lengths[a] == lengths[b]) & (a > b))
+        short, long_ = np.where(swap, b, a), np.where(swap, a, b)
+        shorter, longer = np.unique(short), np.unique(long_)
+        wanted = short.astype(np.int64) * n + long_
+    pts = [lines[k].points for k in shorter.tolist()]
+    segs = Segments.of([lines[k].points for k in longer.tolist()])
     sizes = np.fromiter(map(len, pts), dtype=np.intp, count=len(pts))
-    which = np.repeat(np.arange(len(lines)), sizes)
+    which = np.repeat(shorter, sizes)
     points = np.concatenate(pts)
-    tan = np.concatenate([tangents(ln.points, ln.closed) for ln in lines])
+    tan = np.concatenate([tangents(lines[k].points, lines[k].closed)
+                          for k in shorter.tolist()])
     i, seg = segs.running_along(points, tan, work.d, work.tuning.along_cos)
-    other = segs.polyline[seg]
+    other = longer[segs.polyline[seg]]
     ok = ((other != which[i])
           & ((lengths[other] > lengths[which[i]])
              | ((lengths[other] == lengths[which[i]]) & (other > which[i]))))
     i, other = i[ok], other[ok]
-    key = np.unique(i.astype(np.int64) * len(lines) + other)  # each sample and line once
-    line_of, partner = which[key // len(lines)], key % len(lines)
-    pair_key = line_of.astype(np.int64) * len(lines) + partner
+    key = np.unique(i.astype(np.int64) * n + other)  # each sample and line once
+    line_of, partner = which[key // n], key % n
+    pair_key = line_of.astype(np.int64) * n + partner
     uniq, count = np.unique(pair_key, return_counts=True)
-    share = count / sizes[uniq // len(lines)]
+    if wanted is not None:
+        count = count[np.isin(uniq, wanted)]
+        uniq = uniq[np.isin(uniq, wanted)]
+    share = count / np.bincount(which, minlength=n)[uniq // n]
     good = share >= work.tuning.along_share
-    return np.stack([uniq[good] // len(lines), uniq[good] % len(lines)], axis=1)
+    return np.stack([uniq[good] // n, uniq[good] % n], axis=1)
 
 
 def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:

@@ -87,7 +87,8 @@ def _judge(lines: list[Line], a: np.ndarray, b: np.ndarray, work: Work) -> list[
         for k, m in zip(paired, merged):
             cost[k] = min(float(fd_distance(own[at[int(a[k])]], m)),
                           float(fd_distance(own[at[int(b[k])]], m)))
-    along = {(int(x), int(y)) for x, y in along_pairs(sub, work).tolist()}
+    along = {(int(x), int(y)) for x, y in
+             along_pairs(sub, work, np.stack([row[a], row[b]], axis=1)).tolist()}
     lengths = np.array([ln.length for ln in sub])
     how = [h if m is not None else None for h, m in found]
     cos_max = math.cos(math.radians(params.angle))
