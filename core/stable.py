@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .arrays.geometry import Reached, Segments, tangents_each
+from .arrays.geometry import Reached, Segments, nearest_of_each, tangents_each
 from .arrays.polylines import resample_polyline
 from .sketch import Stroke
 
@@ -145,8 +145,7 @@ def _feet(points: np.ndarray, tangent: np.ndarray, lines: Segments, reach: float
     if not len(i):
         return np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros((0, 2))
     foot = lines.foot(seg, lines.along(seg, points[i]))
-    order = np.lexsort((np.hypot(*(foot - points[i]).T), i))
-    first = order[np.r_[True, i[order][1:] != i[order][:-1]]]
+    first = nearest_of_each(i, np.hypot(*(foot - points[i]).T), np.arange(len(i)))
     v = lines.vector[seg[first]]
     normal = np.column_stack([-v[:, 1], v[:, 0]]) / np.hypot(v[:, 0], v[:, 1])[:, None]
     return i[first], foot[first], normal

@@ -14,10 +14,9 @@ import shapely
 from .polylines import arc_lengths, resample_each
 
 __all__ = [
-    "Crossings", "Projection", "Reached", "Segments", "lines_from", "polygons_from",
-    "project_on", "ring_is_counter_clockwise", "segment_distance", "shoelace_terms",
-    "split_coordinates",
-    "tangents", "tangents_each", "unit_rows",
+    "Crossings", "Projection", "Reached", "Segments", "lines_from", "nearest_of_each",
+    "polygons_from", "project_on", "ring_is_counter_clockwise", "segment_distance",
+    "shoelace_terms", "split_coordinates", "tangents", "tangents_each", "unit_rows",
 ]
 
 
@@ -97,6 +96,34 @@ def tangents(points: np.ndarray, closed: bool = False) -> np.ndarray:
         return unit_rows(np.gradient(points, axis=0))
     ring = np.vstack([points[-2:-1], points, points[1:2]])
     return unit_rows(np.gradient(ring, axis=0)[1:-1])
+
+
+def nearest_of_each(i: np.ndarray, dist: np.ndarray, tie: np.ndarray) -> np.ndarray:
+    """For rows (``i``, ``dist``, ``tie``) of a query, the index of the row of least
+    ``dist`` for each distinct ``i``, of equally near ones the least ``tie``, in
+    ascending ``i``: the first row of each ``i`` after ``np.lexsort((tie, dist, i))``, in
+    a few passes over the rows where they come sorted by ``i`` (as a tree query gives
+    them), without sorting them.
+
+    >>> i, dist, tie = np.array([0, 0, 0, 2, 2]), np.array([2., 1, 1, 5, 4]), np.array([7, 9, 8, 1, 3])
+    >>> nearest_of_each(i, dist, tie).tolist()
+    [2, 4]
+    """
+    if not len(i):
+        return np.zeros(0, dtype=np.intp)
+    if np.any(i[1:] < i[:-1]):
+        order = np.lexsort((tie, dist, i))
+        return order[np.r_[True, i[order][1:] != i[order][:-1]]]
+    starts = np.flatnonzero(np.r_[True, i[1:] != i[:-1]])
+    group = np.cumsum(np.r_[False, i[1:] != i[:-1]])
+    least = np.minimum.reduceat(dist, starts)
+    nearest = dist == least[group]
+    rows = np.arange(len(i))
+    # of the nearest rows of each group, the least tie, then the first such row
+    ties = np.where(nearest, tie, np.iinfo(np.int64).max)
+    best = np.minimum.reduceat(ties, starts)
+    chosen = np.where(nearest & (ties == best[group]), rows, len(i))
+    return np.minimum.reduceat(chosen, starts)
 
 
 def tangents_each(polylines: list[np.ndarray]) -> np.ndarray:
@@ -273,9 +300,7 @@ class Segments:
             out = _nearest_measured(self.origin, self.end, points)
             return out, self.along(out, points)
         i, seg = self.tree.query_nearest(shapely.points(points), all_matches=True)
-        order = np.lexsort((seg, i))
-        i, seg = i[order], seg[order]
-        first = np.r_[True, i[1:] != i[:-1]]
+        first = nearest_of_each(i, seg, seg)  # of equally near segments, the lowest
         out = np.zeros(len(points), dtype=np.intp)
         out[i[first]] = seg[first]
         return out, self.along(out, points)

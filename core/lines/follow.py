@@ -26,7 +26,7 @@ from functools import cached_property
 import numpy as np
 import shapely
 
-from ..arrays.geometry import Segments, tangents
+from ..arrays.geometry import Segments, nearest_of_each, tangents
 from ..arrays.polylines import arc_lengths
 from .work import Work
 
@@ -72,7 +72,9 @@ def _nearest_along(state, alive: list[int], points: np.ndarray, tangent: np.ndar
     polylines = [state.curves[c] for c in alive]
     segs = Segments.of(polylines)
     # the arc length along its curve at each segment's first point
-    running = np.concatenate([arc_lengths(p) for p in polylines])
+    sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
+    ends = np.cumsum(sizes)
+    running = arc_lengths(np.concatenate(polylines), ends - sizes, ends - 1)
     i, seg = segs.running_along(points, tangent, work.tuning.follow_reach * work.d,
                                 work.tuning.follow_cos)
     v = segs.vector[seg]
@@ -81,11 +83,8 @@ def _nearest_along(state, alive: list[int], points: np.ndarray, tangent: np.ndar
     foot = segs.origin[seg] + segs.vector[seg] * (u / length)[:, None]
     dist = np.hypot(*(points[i] - foot).T)
     # nearest first; ties by segment, in the order of curve ids: the same in every state
-    order = np.lexsort((seg, dist, i))
-    i, seg, u = i[order], seg[order], u[order]
-    first = np.ones(len(i), bool)
-    first[1:] = i[1:] != i[:-1]
-    i, seg, u = i[first], seg[first], u[first]
+    pick = nearest_of_each(i, dist, seg)
+    i, seg, u = i[pick], seg[pick], u[pick]
     curve[i] = np.asarray(alive)[segs.polyline[seg]]
     at[i] = running[segs.start[seg]] + u
     return curve, at
