@@ -105,7 +105,8 @@ def nearest_of_each(i: np.ndarray, dist: np.ndarray, tie: np.ndarray) -> np.ndar
     a few passes over the rows where they come sorted by ``i`` (as a tree query gives
     them), without sorting them.
 
-    >>> i, dist, tie = np.array([0, 0, 0, 2, 2]), np.array([2., 1, 1, 5, 4]), np.array([7, 9, 8, 1, 3])
+    >>> i, dist = np.array([0, 0, 0, 2, 2]), np.array([2.0, 1, 1, 5, 4])
+    >>> tie = np.array([7, 9, 8, 1, 3])
     >>> nearest_of_each(i, dist, tie).tolist()
     [2, 4]
     """
