@@ -166,3 +166,20 @@ def test_ink_passing_a_segment_too_short_for_geos_is_found_at_the_stroke_start()
         rows = NearestInk([Stroke(line)], [line]).passing(np.array([[0.0173, 0.3832]]), 0.1)
     stroke, at = rows.of(0)
     assert stroke.tolist() == [0, 0] and at.tolist() == [0.0, pytest.approx(0.0173)]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_nearest_row_of_each_sample_is_the_first_after_sorting_the_rows(seed):
+    """`nearest_of_each` against the sort it stands in for: rows of a query (sample,
+    distance, segment), with ties in distance, given in the tree's order (by sample) and
+    shuffled."""
+    rng = np.random.default_rng(seed)
+    i = np.sort(rng.integers(0, 50, 600))
+    seg = rng.integers(0, 40, 600)
+    i, seg = np.unique(np.stack([i, seg], axis=1), axis=0).T  # each pair once
+    dist = rng.integers(0, 5, len(i)).astype(float)  # many ties
+    for rows in (np.arange(len(i)), rng.permutation(len(i))):
+        a, d, s = i[rows], dist[rows], seg[rows]
+        order = np.lexsort((s, d, a))
+        want = order[np.r_[True, a[order][1:] != a[order][:-1]]]
+        assert geometry.nearest_of_each(a, d, s).tolist() == want.tolist()
