@@ -171,14 +171,14 @@ def test_ink_passing_a_segment_too_short_for_geos_is_found_at_the_stroke_start()
 @pytest.mark.parametrize("seed", range(4))
 def test_the_nearest_row_of_each_sample_is_the_first_after_sorting_the_rows(seed):
     """`nearest_of_each` against the sort it stands in for: rows of a query (sample,
-    distance, segment), with ties in distance, given in the tree's order (by sample) and
-    shuffled."""
+    distance, segment), with ties in distance, given by sample (as a tree gives them; the
+    segments of each in any order) and shuffled."""
     rng = np.random.default_rng(seed)
     i = np.sort(rng.integers(0, 50, 600))
     seg = rng.integers(0, 40, 600)
     i, seg = np.unique(np.stack([i, seg], axis=1), axis=0).T  # each pair once
     dist = rng.integers(0, 5, len(i)).astype(float)  # many ties
-    for rows in (np.arange(len(i)), rng.permutation(len(i))):
+    for rows in (np.lexsort((rng.random(len(i)), i)), rng.permutation(len(i))):
         a, d, s = i[rows], dist[rows], seg[rows]
         order = np.lexsort((s, d, a))
         want = order[np.r_[True, a[order][1:] != a[order][:-1]]]
