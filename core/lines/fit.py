@@ -780,8 +780,9 @@ def _joint_fits(before: list[Line], joint: list[Line], every: Segments, own: lis
         moves[key] = move
     if move <= t.join_reach * work.d:
         return True
-    return lies_apart(np.concatenate([ln.points for ln in joint]), own, t.apart * move, every,
-                      t.apart_share)
+    reach = t.apart * move  # asked every half reach along it (its points lie h apart)
+    return lies_apart(np.concatenate([ln.points for ln in joint])[::max(1, int(reach / (
+        2 * work.h)))], own, reach, every, t.apart_share)
 
 
 def run(work: Work) -> Work:
