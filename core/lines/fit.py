@@ -669,14 +669,25 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
         return lines
     segs = Segments.of([ln.points for ln in lines])  # a tree of single segments: a
     owner: dict[int, int] = {}  # long line's points are not each walked along a long line
-    for k in sorted(range(len(lines)), key=lambda k: (lengths[k], k)):
+    asked = [k for k in sorted(range(len(lines)), key=lambda k: (lengths[k], k))
+             if band is not None or lengths[k] < t.crumb * work.d]
+    if not asked:
+        return lines
+    # the lines within reach of each point of every line asked about, in one query
+    sizes = np.array([len(lines[k].points) for k in asked])
+    point, seg = segs.tree.query(shapely.points(np.concatenate([lines[k].points
+                                                                 for k in asked])),
+                                 predicate="dwithin", distance=t.absorb_reach * work.d)
+    order = np.argsort(point, kind="stable")
+    point, seg = point[order], seg[order]
+    firsts = np.cumsum(sizes) - sizes
+    of = np.searchsorted(firsts, point, side="right") - 1  # which asked line
+    rows = np.split(np.stack([point - firsts[of], segs.polyline[seg]]),
+                    np.searchsorted(of, np.arange(1, len(asked))), axis=1)
+    for k, (i, j) in zip(asked, rows):
         crumb = lengths[k] < t.crumb * work.d
-        if not crumb and band is None:
-            continue
         pts = lines[k].points
-        i, seg = segs.tree.query(shapely.points(pts), predicate="dwithin",
-                                 distance=t.absorb_reach * work.d)
-        ij = np.unique(i.astype(np.int64) * len(lines) + segs.polyline[seg])
+        ij = np.unique(i.astype(np.int64) * len(lines) + j)
         i, j = ij // len(lines), ij % len(lines)
         keep = (lengths[j] > lengths[k]) & (j != k)
         i, j = i[keep], j[keep]
