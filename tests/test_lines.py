@@ -575,3 +575,28 @@ def test_a_stroke_is_cut_where_it_comes_back_round_not_where_it_crosses_itself(a
         shaken = [p + rng.normal(0, 0.004, p.shape) for p in (ell, ring)]
         assert len(pieces.cut_where_it_returns(shaken[0], 0.05, 0.9)) == 1
         assert len(pieces.cut_where_it_returns(shaken[1], 0.05, 0.9)) >= 2
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_pass_5_asking_about_some_pairs_answers_as_asking_about_all(seed):
+    """`along_pairs` told which pairs pass 5 judges measures only those, and finds of them
+    what it finds measuring every line against every other (brute force), whichever way
+    round a pair is asked, lines of equal length included."""
+    from core.lines.fit import along_pairs
+    from core.lines.work import Line, Work
+    rng = np.random.default_rng(seed)
+    lines = []
+    for _ in range(24):
+        start, heading = rng.uniform(0, 20, 2), rng.choice([0.0, 0.1, np.pi / 2])
+        n = int(rng.integers(3, 30))
+        t = np.arange(n)[:, None] * 0.5
+        lines.append(Line(start + t * [np.cos(heading), np.sin(heading)], False, ()))
+    lines.append(Line(lines[0].points + [0, 0.3], False, ()))  # as long as line 0
+    work = Work(None, None, Tuning(), 1.0, 0.25, [])
+    every = {tuple(p) for p in along_pairs(lines, work).tolist()}
+    asked = np.array([(a, b) for a in range(len(lines)) for b in range(len(lines))
+                      if a != b and rng.random() < 0.3] + [(24, 0)])
+    got = {tuple(p) for p in along_pairs(lines, work, asked).tolist()}
+    want = {p for p in every if p in {tuple(q) for q in asked.tolist()}
+            or p[::-1] in {tuple(q) for q in asked.tolist()}}
+    assert got == want and (0, 24) in every
