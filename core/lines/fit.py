@@ -648,8 +648,8 @@ def along_pairs(lines: list[Line], work: Work, asked: np.ndarray | None = None
     pair_key = line_of.astype(np.int64) * n + partner
     uniq, count = np.unique(pair_key, return_counts=True)
     if wanted is not None:
-        count = count[np.isin(uniq, wanted)]
-        uniq = uniq[np.isin(uniq, wanted)]
+        asked_for = np.isin(uniq, wanted)
+        uniq, count = uniq[asked_for], count[asked_for]
     share = count / np.bincount(which, minlength=n)[uniq // n]
     good = share >= work.tuning.along_share
     return np.stack([uniq[good] // n, uniq[good] % n], axis=1)
