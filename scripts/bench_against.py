@@ -138,8 +138,8 @@ def interleaved(arms: dict[str, tuple[Path, dict]], path: str, steps: bool) -> d
 
 
 def sketches(data: Path, every: int, largest: int, only: str) -> tuple[list[Path], list[Path]]:
-    """Every ``every``-th rough sketch of the data (sorted by path), and the ``largest``
-    by points."""
+    """Every ``every``-th rough sketch of the data (sorted by path; none for 0), and the
+    ``largest`` by points."""
     files = sorted(p for p in data.rglob("*.scap") if p.name != "full_fit.scap"
                    and only in str(p))
 
@@ -148,7 +148,7 @@ def sketches(data: Path, every: int, largest: int, only: str) -> tuple[list[Path
                    if line[:1] not in ("#", "@", "{", "}", "") and not line.startswith("\t#"))
 
     by_size = sorted(files, key=points, reverse=True)[:largest]
-    return files[::every], by_size
+    return (files[::every] if every > 0 else []), by_size
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -157,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--arm", action="append", metavar="NAME=OPTIONS",
                     help="an arm of the pinned commit: its name, then SimplifyParams fields "
                     "as key=value,... (default: pen=lines=pen and default=)")
-    ap.add_argument("--every", type=int, default=5, help="every N-th real sketch")
+    ap.add_argument("--every", type=int, default=5, help="every N-th real sketch (0: none)")
     ap.add_argument("--largest", type=int, default=3, help="the N largest real sketches")
     ap.add_argument("--sizes", default="10000", help="synthetic sizes ('' for none)")
     ap.add_argument("--data", type=Path, default=DATA)
@@ -219,7 +219,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{figure:32s} " + " ".join(f"{by_arm[n]:10.3f}" for n in arms) + f"   {ratios}")
     print("\ntargets (the commit's time over this tree's):")
     for figure, arm, least in TARGETS:
-        if figure not in figures or arm not in figures[figure]:
+        if figure not in figures or arm not in figures[figure] or not (
+                figures[figure]["this"] > 0):  # not measured (no sketch, or no size)
             continue
         ratio = figures[figure][arm] / figures[figure]["this"]
         print(f"  {figure:28s} against {arm:8s} {ratio:5.2f}x  (target >= {least}x)  "
