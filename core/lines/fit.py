@@ -667,12 +667,13 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
     lengths = np.array([ln.length for ln in lines])
     if len(lines) < 2:
         return lines
-    segs = Segments.of([ln.points for ln in lines])  # a tree of single segments: a
-    owner: dict[int, int] = {}  # long line's points are not each walked along a long line
+    crumbs = lengths < t.crumb * work.d
     asked = [k for k in sorted(range(len(lines)), key=lambda k: (lengths[k], k))
-             if band is not None or lengths[k] < t.crumb * work.d]
+             if band is not None or crumbs[k]]
     if not asked:
         return lines
+    segs = Segments.of([ln.points for ln in lines])  # a tree of single segments: a
+    owner: dict[int, int] = {}  # long line's points are not each walked along a long line
     # the lines within reach of each point of every line asked about, in one query
     sizes = np.array([len(lines[k].points) for k in asked])
     point, seg = segs.tree.query(shapely.points(np.concatenate([lines[k].points
@@ -685,7 +686,7 @@ def absorb_lines(lines: list[Line], work: Work, band=None) -> list[Line]:
     rows = np.split(np.stack([point - firsts[of], segs.polyline[seg]]),
                     np.searchsorted(of, np.arange(1, len(asked))), axis=1)
     for k, (i, j) in zip(asked, rows):
-        crumb = lengths[k] < t.crumb * work.d
+        crumb = bool(crumbs[k])
         pts = lines[k].points
         ij = np.unique(i.astype(np.int64) * len(lines) + j)
         i, j = ij // len(lines), ij % len(lines)
