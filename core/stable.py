@@ -73,16 +73,23 @@ ROUNDS = 3
 DAMPING = 0.01
 
 
-def _near(strokes: list[Stroke], others: list[Stroke], width: float
+def _lines(strokes: list[Stroke]) -> tuple[list[int], Segments | None]:
+    """The strokes that are lines (a dot is none), and their segments (None if none)."""
+    lines = [k for k, s in enumerate(strokes) if len(s.points) >= 2]
+    return lines, Segments.of([strokes[k].points for k in lines]) if lines else None
+
+
+def _near(strokes: list[Stroke], others: list[Stroke], width: float,
+          lines: tuple[list[int], Segments | None] | None = None
           ) -> tuple[np.ndarray, list[set[int]]]:
     """For each stroke: the share of it within ``width`` of the ``others``, and which of
-    them it comes within ``width`` of."""
+    them it comes within ``width`` of. ``lines``: the others' :func:`_lines`, where the
+    caller has them (their segment tree is kept with them)."""
     touched: list[set[int]] = [set() for _ in strokes]
-    lines = [k for k, o in enumerate(others) if len(o.points) >= 2]  # a dot is no line
-    if not strokes or not lines:
+    lines, segments = _lines(others) if lines is None else lines
+    if not strokes or segments is None:
         return np.zeros(len(strokes)), touched
-    reached = Reached.of([s.points for s in strokes], [others[k].points for k in lines],
-                         width, SPACING * width)
+    reached = Reached.of([s.points for s in strokes], segments, width, SPACING * width)
     for k, o in zip(reached.polyline[reached.sample].tolist(), reached.line.tolist()):
         touched[k].add(lines[o])
     return reached.shares(), touched
@@ -214,16 +221,16 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
              support: list[Stroke] | None) -> Carried:
     support = current if support is None else support
     lines = [c.points for c in current if len(c.points) >= 2]
+    drawn = _lines(support)  # dots say nothing of where a line is
     if not strokes or not lines:
-        return Carried(list(strokes), *_near(strokes, support, width))
+        return Carried(list(strokes), *_near(strokes, support, width, drawn))
     segs = Segments.of(lines)
     points = [resample_polyline(s.points, SPACING * width) for s in strokes]
     whole, = _fitted([points], segs, width, [STILLNESS], ROUNDS)
     flat = np.concatenate(points)
     if np.mean(np.hypot(*(whole(flat) - flat).T)) < STILL * width:
         whole = STILLNESS
-    drawn = [s.points for s in support if len(s.points) >= 2]
-    ink = Segments.of(drawn) if drawn else None  # dots say nothing of where a line is
+    ink = drawn[1]
     # its own motion only where the new lines run along most of it (a stroke the new
     # result lacks is not pulled by the lines that merely meet its ends), and where it
     # brings the stroke nearer the ink than the whole drawing's motion does: a line the
@@ -257,11 +264,11 @@ def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
                            bezier=None if stroke.bezier is None else motion(stroke.bezier)))
     # a stroke the fit took farther off what holds it (matched to the wrong lines) stays
     # as it was
-    before, before_near = _near(strokes, support, width)
+    before, before_near = _near(strokes, support, width, drawn)
     after, after_near = before.copy(), list(before_near)  # a stroke left still: as before
     went = [k for k, (m, s) in enumerate(zip(out, strokes)) if m is not s]
     if went:
-        after[went], near = _near([out[k] for k in went], support, width)
+        after[went], near = _near([out[k] for k in went], support, width, drawn)
         for k, n in zip(went, near):
             after_near[k] = n
     moved = after >= before

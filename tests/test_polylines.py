@@ -14,6 +14,7 @@ from core.arrays.geometry import Segments
 from core.arrays.polylines import (
     Polylines,
     arc_lengths,
+    resample_each,
     resample_polyline,
     resample_polylines,
     starts,
@@ -183,3 +184,30 @@ def test_the_nearest_row_of_each_sample_is_the_first_after_sorting_the_rows(seed
         order = np.lexsort((s, d, a))
         want = order[np.r_[True, a[order][1:] != a[order][:-1]]]
         assert geometry.nearest_of_each(a, d, s).tolist() == want.tolist()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_reached_through_segments_is_reached_through_whole_lines_and_by_brute_force(seed):
+    """`Reached.of` asked through `Segments` (their single segments' tree) gives the same
+    (sample, line) pairs as through the lines whole, each pair once, and both the pairs a
+    brute-force measure of every sample against every segment finds; dots and lines of
+    one point among the lines keep their numbers."""
+    rng = np.random.default_rng(seed)
+    lines = [np.cumsum(rng.normal(0, 0.05, (rng.integers(2, 40), 2)), axis=0) + rng.random(2)
+             for _ in range(12)]
+    polylines = [np.cumsum(rng.normal(0, 0.05, (rng.integers(1, 30), 2)), axis=0)
+                 + rng.random(2) for _ in range(8)]
+    reach, spacing = 0.08, 0.03
+    whole = geometry.Reached.of(polylines, lines, reach, spacing)
+    asked = [np.zeros((1, 2)) + 9.0] + lines  # a lone point first: numbers shift by one
+    through = geometry.Reached.of(polylines, Segments.of(asked), reach, spacing)
+    pairs = sorted(zip(whole.sample.tolist(), whole.line.tolist()))
+    assert sorted(zip(through.sample.tolist(), (through.line - 1).tolist())) == pairs
+    assert len(set(pairs)) == len(pairs)
+    points = resample_each(polylines, spacing)[0]
+    segs = Segments.of(lines)
+    d = geometry.segment_distance(points[:, None], segs.origin[None], segs.end[None])
+    near = d <= reach
+    brute = sorted({(int(p), int(segs.polyline[s])) for p, s in zip(*np.nonzero(near))})
+    assert pairs == brute
+    assert whole.count.tolist() == through.count.tolist()
