@@ -14,6 +14,7 @@ to be had outside Blender): while workers start, the main module's file is hidde
 
 from __future__ import annotations
 
+import gc
 import multiprocessing
 import os
 import sys
@@ -215,6 +216,8 @@ KEPT_RECORDS = 64
 
 #: a kept worker's cache of results, made on its first call (None in every other process)
 _kept: ReplayCache | None = None
+#: the results that cache had dropped when the worker last froze what it holds
+_dropped = 0
 
 
 class NeedsRecord:
@@ -243,6 +246,24 @@ def _kept_one(args: tuple[Sketch, SimplifyParams, bool, float | None, Recorded |
         return simplified(result, regions, record=how == "ran" and cover is not None), how
     except SketchError as exc:
         return exc, "refused"
+    finally:
+        _settled(_kept)
+
+
+def _settled(cache: ReplayCache) -> None:
+    """Set what a kept worker holds (its results, their memos: hundreds of thousands of
+    objects) aside from the cyclic garbage collector (``gc.freeze``). They live from call
+    to call, and every full collection during a call would walk them all again; a result
+    holds no reference cycles, so it is freed by reference counting when dropped, frozen
+    or not. Where the cache dropped a result since the last call, what is frozen is first
+    handed back and collected (``gc.unfreeze``, ``gc.collect``), so that a cycle a later
+    change might bring is freed all the same."""
+    global _dropped
+    if cache.dropped != _dropped:
+        gc.unfreeze()
+        gc.collect()
+        _dropped = cache.dropped
+    gc.freeze()
 
 
 class KeptPool:

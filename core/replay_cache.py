@@ -84,6 +84,7 @@ class ReplayCache:
         self.points = points
         self.runs = 0  # how many times simplify actually ran
         self.rebuilds = 0  # how many results were rebuilt from a kept record
+        self.dropped = 0  # how many results were dropped to keep within the bounds
         self._results: OrderedDict[tuple, SimplifyResult] = OrderedDict()
         self._result_points: dict[tuple, int] = {}
         self._records: OrderedDict[tuple, Recorded] = OrderedDict()
@@ -146,6 +147,7 @@ class ReplayCache:
                 len(self._results) > self.size or self.points is not None
                 and sum(self._result_points.values()) > self.points):
             del self._result_points[self._results.popitem(last=False)[0]]
+            self.dropped += 1
         return cached if cached.params.epsilon == params.epsilon else cached.at(params.epsilon)
 
     def output(self, sketch: Sketch, params: SimplifyParams, regions: bool

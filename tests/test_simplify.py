@@ -215,6 +215,8 @@ def test_a_kept_pool_replays_each_sketch_in_the_worker_that_holds_it():
     """KeptPool: a first call runs each distinct sketch's merge loop on to ``cover`` in
     whichever worker is free; every later epsilon goes back to that worker and is a
     replay there; each output is, to the bit, what a fresh run at that epsilon gives."""
+    import gc
+
     from core.parallel import KeptPool
 
     sketches = [read_sketch(SAMPLES / f"{name}.scap") for name in ("cup", "house", "fish")]
@@ -227,6 +229,8 @@ def test_a_kept_pool_replays_each_sketch_in_the_worker_that_holds_it():
                 assert _beziers(out.strokes) == _beziers(
                     simplify(sketch, SimplifyParams(epsilon=eps)).strokes)
         assert dict(pool.counts) == {"ran": 3, "replayed": 9}
+        # what each worker holds is set aside from the cyclic collector's walks
+        assert all(w.submit(gc.get_freeze_count).result() > 1000 for w in pool._workers)
     assert not pool.alive
     with pytest.raises(SketchError, match="closed"):
         pool.simplify(sketches, SimplifyParams())
