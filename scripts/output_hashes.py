@@ -66,6 +66,9 @@ def hash_sketch(args: tuple[str, str, str | None]) -> tuple[str, dict]:
         return path, {"error": f"{type(exc).__name__}: {exc}"}
     row = {"strokes": _strokes_digest(result.strokes), "history": _history_digest(result.history),
            "count": len(result.strokes)}
+    if getattr(result, "groups", None) is not None:  # which line draws each input stroke
+        row["groups"] = hashlib.sha256(np.ascontiguousarray(result.groups, np.int64)
+                                       .tobytes()).hexdigest()[:16]
     for f in REPLAYS:
         row[f"at{f}"] = _strokes_digest(result.at(params.epsilon * f).strokes)
     return path, row

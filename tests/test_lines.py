@@ -600,3 +600,24 @@ def test_pass_5_asking_about_some_pairs_answers_as_asking_about_all(seed):
     want = {p for p in every if p in {tuple(q) for q in asked.tolist()}
             or p[::-1] in {tuple(q) for q in asked.tolist()}}
     assert got == want and (0, 24) in every
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_each_strokes_group_is_the_line_drawing_most_of_it_as_a_full_table_says(seed):
+    """`stroke_groups` (pairs drawn, summed without a strokes x lines table) against the
+    full table it stands in for: each stroke's line is the one whose pieces of it are
+    longest, of equal ones the first; -1 where none draws any length of it. Whole
+    lengths make ties, and zero-length pieces strokes drawn by nothing."""
+    from core.lines.bezier import stroke_groups
+
+    rng = np.random.default_rng(seed)
+    strokes, pieces, lines = 40, 120, 25
+    piece_stroke = rng.integers(0, strokes, pieces)
+    length = rng.integers(0, 4, pieces).astype(float)  # ties, and pieces of no length
+    drawn = [(int(rng.integers(0, lines)), int(p)) for p in rng.integers(0, pieces, 300)]
+    table = np.zeros((strokes, lines))
+    for line, p in drawn:
+        table[piece_stroke[p], line] += length[p]
+    want = np.where(table.max(axis=1) > 0, table.argmax(axis=1), -1)
+    got = stroke_groups(drawn, piece_stroke, length, strokes)
+    assert got.tolist() == want.tolist()

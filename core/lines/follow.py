@@ -34,6 +34,9 @@ __all__ = ["Followed", "run"]
 
 #: states followed kept for replays to start from (each two arrays of the samples)
 KEPT_STATES = 4
+#: samples asked about at once: the rows of a query (every segment within reach of each
+#: sample, a few tens of bytes a row) stay within tens of MB however large the drawing
+SAMPLES_AT_ONCE = 16384
 
 
 @dataclass(frozen=True)
@@ -75,18 +78,20 @@ def _nearest_along(state, alive: list[int], points: np.ndarray, tangent: np.ndar
     sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
     ends = np.cumsum(sizes)
     running = arc_lengths(np.concatenate(polylines), ends - sizes, ends - 1)
-    i, seg = segs.running_along(points, tangent, work.tuning.follow_reach * work.d,
-                                work.tuning.follow_cos)
-    v = segs.vector[seg]
-    length = np.hypot(v[:, 0], v[:, 1])
-    u = segs.along(seg, points[i])
-    foot = segs.origin[seg] + segs.vector[seg] * (u / length)[:, None]
-    dist = np.hypot(*(points[i] - foot).T)
-    # nearest first; ties by segment, in the order of curve ids: the same in every state
-    pick = nearest_of_each(i, dist, seg)
-    i, seg, u = i[pick], seg[pick], u[pick]
-    curve[i] = np.asarray(alive)[segs.polyline[seg]]
-    at[i] = running[segs.start[seg]] + u
+    for start in range(0, len(points), SAMPLES_AT_ONCE):  # each sample on its own
+        part = slice(start, start + SAMPLES_AT_ONCE)
+        i, seg = segs.running_along(points[part], tangent[part],
+                                    work.tuning.follow_reach * work.d, work.tuning.follow_cos)
+        v = segs.vector[seg]
+        length = np.hypot(v[:, 0], v[:, 1])
+        u = segs.along(seg, points[part][i])
+        foot = segs.origin[seg] + segs.vector[seg] * (u / length)[:, None]
+        dist = np.hypot(*(points[part][i] - foot).T)
+        # nearest first; ties by segment, in the order of curve ids: the same in every state
+        pick = nearest_of_each(i, dist, seg)
+        i, seg, u = i[pick] + start, seg[pick], u[pick]
+        curve[i] = np.asarray(alive)[segs.polyline[seg]]
+        at[i] = running[segs.start[seg]] + u
     return curve, at
 
 
