@@ -187,12 +187,14 @@ def main(argv: list[str] | None = None) -> int:
             sample = [rows[f"sample:{p.relative_to(args.data)}"][name] for p in every]
             big = [rows[f"largest:{p.relative_to(args.data)}"][name] for p in largest]
             ok = [r for r in sample if "fresh" in r]
-            figures.setdefault("fresh-run median", {})[name] = float(
-                np.median([r["fresh"] for r in ok]))
-            figures.setdefault("slider step, median", {})[name] = float(
-                np.median([r["step"] for r in ok]))
-            figures.setdefault("largest sketches, summed", {})[name] = float(
-                sum(r["fresh"] for r in big if "fresh" in r))
+            if ok:  # a figure of no sketch is left out, not printed as nan
+                figures.setdefault("fresh-run median", {})[name] = float(
+                    np.median([r["fresh"] for r in ok]))
+                figures.setdefault("slider step, median", {})[name] = float(
+                    np.median([r["step"] for r in ok]))
+            if any("fresh" in r for r in big):
+                figures.setdefault("largest sketches, summed", {})[name] = float(
+                    sum(r["fresh"] for r in big if "fresh" in r))
     else:
         print(f"no sketches at {args.data}: the real-sketch figures are skipped")
     sizes = [int(n) for n in args.sizes.split(",") if n]
