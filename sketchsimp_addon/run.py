@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import time
 from collections import deque
+from collections.abc import Iterator
 from dataclasses import replace
 
 from ..core import (
@@ -91,29 +92,35 @@ def _stable_wanted(options) -> bool:
 
 
 def results_of(obj, options, gathered: Gathered, outputs: list, report: RunReport,
-               holding: Holding | None = None) -> list[DrawingResult]:
+               holding: Holding | None = None, made: dict[int, NewStrokes] | None = None
+               ) -> list[DrawingResult]:
     """The new strokes of each drawing of ``gathered.prepared`` whose output is in
     ``outputs`` (None where it is not: a cancelled run gives only what finished), and the
     empty keyframes to keep; counts and skips go to ``report``. ``holding``: where every
-    drawing finished, the run's :class:`Holding`, which has held them all already."""
+    drawing finished, the run's :class:`Holding`, which has held them all already.
+    ``made``: the new strokes of drawings made already from those outputs (as held), by
+    index into ``gathered.prepared``."""
     if holding is not None:
         outputs = holding.held(outputs)
     finished = [k for k, out in enumerate(outputs) if out is not None]
     prepared = [gathered.prepared[k] for k in finished]
     outputs = [outputs[k] for k in finished]
+    made = {} if made is None else made
     empty, held = gathered.empty, gathered.held
     fills = _fills_wanted(options)
     if _stable_wanted(options) and holding is None:
         outputs = held_across_frames(prepared, outputs)
     materials = fill_materials(obj) if fills and prepared else None
     results = []
-    for p, out in zip(prepared, outputs):
+    for k, p, out in zip(finished, prepared, outputs):
         if isinstance(out, SketchError):
             report.skipped.append(f"'{p.layer.name}' frame {p.frames[0].frame_number} ({out})")
             continue
+        new = made.get(k)
         results.append(DrawingResult(
-            p.layer, p.frames, p.chosen, to_new_strokes(out.strokes, p.data, p.plane,
-                                                        out.width),
+            p.layer, p.frames, p.chosen,
+            new if new is not None else to_new_strokes(out.strokes, p.data, p.plane,
+                                                       out.width),
             fill_strokes(out.regions, p.plane, *materials) if materials else None))
         report.drawings += 1
         report.strokes_in += len(p.chosen)
@@ -223,6 +230,7 @@ class StepwiseRun:
         prepared = self.gathered.prepared
         # Stable Across Frames held as the drawings finish, while the pool works on
         self._holding = Holding(prepared) if _stable_wanted(options) else None
+        self._made: dict[int, NewStrokes] = {}  # new strokes made as drawings settle
         if engine is not None:  # everything there, at the first step
             self.outputs: list = [None] * len(prepared)
             self._at_once = lambda: engine([p.sketch for p in prepared], fills)
@@ -284,6 +292,19 @@ class StepwiseRun:
                                               self.fills)
         if self._holding is not None:
             self._holding.advance(self.outputs)
+        self._make()
+
+    def _make(self) -> None:
+        """The new strokes of each drawing whose strokes are final (held, where the run
+        holds its keyframes), made as it comes while the pool works on: the end of the
+        run has only the last drawing's to make."""
+        final = (self._holding.settled(self.outputs) if self._holding is not None else
+                 ((k, out.strokes) for k, out in enumerate(self.outputs)
+                  if out is not None and not isinstance(out, SketchError)))
+        for k, strokes in final:
+            if k not in self._made:
+                p = self.gathered.prepared[k]
+                self._made[k] = to_new_strokes(strokes, p.data, p.plane, self.outputs[k].width)
 
     def _took(self, pooled: list[int], outputs: list) -> None:
         """The pool's outputs (None: not yet) for drawings ``pooled``: kept for lookups,
@@ -308,8 +329,10 @@ class StepwiseRun:
         holding = self._holding if self.done else None  # else held over what finished
         if holding is not None:
             holding.advance(self.outputs)  # an engine's outputs: all at once
+        # cancelled while holding, what finished is held again over itself: made again
+        made = self._made if self.done or self._holding is None else None
         results = results_of(self.obj, self.options, self.gathered, self.outputs,
-                             self.report, holding)
+                             self.report, holding, made)
         self.report.seconds = time.perf_counter() - self.t0
         return results
 
@@ -392,6 +415,14 @@ class Holding:
                 if self._previous[c] is not None:
                     self._held[k] = self._hold(k, out, *self._previous[c])
                 self._previous[c] = (self._held.get(k, out.strokes), self.prepared[k].plane)
+
+    def settled(self, outputs: list) -> Iterator[tuple[int, list]]:
+        """Each drawing held so far (a :class:`SketchError` passed over), with its strokes
+        as held: final, whatever finishes after it."""
+        for c, chain in enumerate(self._chains):
+            for k in chain[:self._next[c]]:
+                if not isinstance(outputs[k], SketchError):
+                    yield k, self._held.get(k, outputs[k].strokes)
 
     def held(self, outputs: list) -> list:
         """``outputs`` with the strokes of each keyframe held so far replaced."""

@@ -608,8 +608,9 @@ def test_a_redo_step_holds_again_only_the_keyframes_whose_lines_changed(monkeypa
 def test_a_stepwise_run_holds_each_keyframe_once_as_soon_as_those_before_it_are_done(
         monkeypatch):
     """Stable Across Frames while the run goes on (run.Holding): after each drawing, the
-    keyframes held are exactly those with every keyframe before them in their layer done;
-    each is held once (finishing looks them up), and the strokes written are those that
+    keyframes held are exactly those with every keyframe before them in their layer done,
+    and their new strokes made; each is held and made once (finishing looks them up), and
+    the strokes written are those that
     holding everything at the end gives."""
     from types import SimpleNamespace
 
@@ -625,19 +626,21 @@ def test_a_stepwise_run_holds_each_keyframe_once_as_soon_as_those_before_it_are_
             np.float32) for s in house])
     options = SimpleNamespace(scope="ALL", layers="ACTIVE", output="LAYER", hide_source=True,
                               as_curve=False, fill_regions=False, stable=True)
-    calls = []
-    held_to = run.held_to
+    calls, made = [], []
+    held_to, to_new_strokes = run.held_to, run.to_new_strokes
     monkeypatch.setattr(run, "held_to", lambda *a: calls.append(1) or held_to(*a))
+    monkeypatch.setattr(run, "to_new_strokes", lambda *a: made.append(1) or to_new_strokes(*a))
     monkeypatch.setattr(run, "HELD", LruStore(run.HELD_ENTRIES))
     monkeypatch.setattr(run, "REPLAY", ReplayCache())
     stepwise = run.StepwiseRun(ob, options, SimplifyParams(), 1, jobs=1)
     counts = []
     while not stepwise.done:
         stepwise.step()
-        counts.append(len(calls))
-    assert counts == [0, 1, 2, 3]  # a drawing a step, in frame order: held as it comes
+        counts.append((len(calls), len(made)))
+    # a drawing a step, in frame order: held as it comes, and its new strokes made then
+    assert counts == [(0, 1), (1, 2), (2, 3), (3, 4)]
     results = stepwise.finish()
-    assert len(calls) == 3
+    assert len(calls) == 3 and len(made) == 4  # nothing left to hold or make at the end
     monkeypatch.setattr(run, "HELD", LruStore(run.HELD_ENTRIES))  # held afresh, at the end
     at_end = run.results_of(ob, options, stepwise.gathered, stepwise.outputs,
                             run.RunReport())
