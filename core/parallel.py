@@ -359,10 +359,14 @@ class KeptPool:
 
 
 class KeptRun:
-    """One call's sketches on a :class:`KeptPool`, one in flight per worker: each sketch
-    placed before goes to its worker, the others to whichever worker is free first. Made by
-    :meth:`KeptPool.start`; :meth:`wait` advances it (an interface's timer can, a little
-    at a time); :attr:`outputs` holds each sketch's output once it came (None before)."""
+    """One call's sketches on a :class:`KeptPool`: each sketch placed before goes to its
+    worker (two in flight, :meth:`_feed`), the others to whichever worker is free first.
+    Made by :meth:`KeptPool.start`; :meth:`wait` advances it (an interface's timer can, a
+    little at a time); :attr:`outputs` holds each sketch's output once it came (None
+    before)."""
+
+    #: a worker's own sketches in flight at once
+    AHEAD = 2
 
     def __init__(self, pool: KeptPool, sketches: list[Sketch], params: SimplifyParams,
                  regions: bool, cover: float | None, records: list[Recorded | None] | None
@@ -384,8 +388,13 @@ class KeptRun:
             if digest in pool._home:
                 self._homed[pool._home[digest]].append(u)
         self._done: dict[int, Simplified | SketchError] = {}
-        self._running: dict[Future, tuple[int, int]] = {}
+        # each sketch in flight: its worker, that worker's pool when it was sent, and
+        # the order it was sent in
+        self._running: dict[Future, tuple[int, int, ProcessPoolExecutor, int]] = {}
+        self._in_flight = [0] * pool.jobs
+        self._sent = 0
         self._died: Counter[int] = Counter()  # by sketch: how many workers died on it
+        self._mourned: set[ProcessPoolExecutor] = set()  # workers whose death was counted
         self.outputs: list[Simplified | SketchError | None] = [None] * len(sketches)
         for w in range(pool.jobs):
             self._feed(w)
@@ -411,13 +420,18 @@ class KeptRun:
             return now
         finished, _ = wait(self._running, timeout, return_when=FIRST_COMPLETED)
         for future in finished:
-            w, u = self._running.pop(future)
+            w, u, sent_to, order = self._running.pop(future)
+            self._in_flight[w] -= 1
             try:
                 out, how = future.result()
             except BrokenProcessPool:  # the worker died (killed, out of memory)
-                self._pool._restart(w)
-                self._died[u] += 1
-                if self._died[u] < 2:
+                if sent_to not in self._mourned:  # the first news of its death: on
+                    self._mourned.add(sent_to)  # the first sent of the sketches it had
+                    self._died[min([(order, u)] + [
+                        (o, v) for _, v, e, o in self._running.values() if e is sent_to])[1]] += 1
+                    if self._pool._workers[w] is sent_to:  # not started again on a send
+                        self._pool._restart(w)
+                if self._died[u] < 2:  # each sketch it had goes again
                     self._send(w, u, with_record=True)
                     continue
                 out, how = SketchError("the worker simplifying this drawing died twice "
@@ -444,10 +458,17 @@ class KeptRun:
         recorded = self._records[u]
         args = (self._sketches[self._firsts[u]], params, regions, cover,
                 recorded if with_record else None, recorded is not None, points)
-        self._running[self._pool._send(w, args)] = (w, u)
+        future = self._pool._send(w, args)  # which may start the worker again first
+        self._running[future] = (w, u, self._pool._workers[w], self._sent)
+        self._in_flight[w] += 1
+        self._sent += 1
 
     def _feed(self, w: int) -> None:
-        if self._homed[w]:
+        """Keep worker ``w`` busy: its own sketches sent ``AHEAD`` in flight (the next
+        waits in its queue while the caller holds or writes what came back, rather than
+        the worker waiting for the caller), else, with none in flight, one not yet placed
+        (one at a time: the rest stay for whichever worker is free first)."""
+        while self._in_flight[w] < self.AHEAD and self._homed[w]:
             self._send(w, self._homed[w].popleft())
-        elif self._free:  # new to the worker: its record, if kept, goes along
+        if not self._in_flight[w] and self._free:  # new to it: its record, if kept, along
             self._send(w, self._free.popleft(), with_record=True)

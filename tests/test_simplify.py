@@ -265,6 +265,33 @@ def test_a_kept_worker_that_dropped_a_result_or_died_rebuilds_it_from_the_caller
             simplify(sketches[0], SimplifyParams(epsilon=0.03)).strokes)
 
 
+def test_a_kept_worker_killed_with_two_sketches_in_flight_blames_only_the_one_it_ran():
+    """A worker has its own sketches two in flight (the next queued behind the one it
+    runs). Killed mid-run, both go again, rebuilt from their records in the worker started
+    in its place, and only the sketch it was running counts a death: a sketch queued
+    behind one that kills its worker twice is not refused with it."""
+    import os
+    import signal
+
+    from core.parallel import KeptPool
+
+    sketches = [read_sketch(SAMPLES / f"{name}.scap") for name in ("cup", "house", "fish")]
+    with KeptPool(1) as pool:
+        first = pool.simplify(sketches, SimplifyParams(epsilon=0.02), cover=0.06)
+        records = [out.record for out in first]
+        run = pool.start(sketches, SimplifyParams(epsilon=0.01), records=records)
+        assert run._in_flight == [2]  # its own sketches: one running, one queued
+        for pid in list(pool._workers[0]._processes):
+            os.kill(pid, signal.SIGKILL)
+        while not run.done:
+            run.wait()
+        assert dict(run._died) == {0: 1}  # the first sent, which it was running
+        for out, sketch in zip(run.outputs, sketches):
+            assert _beziers(out.strokes) == _beziers(
+                simplify(sketch, SimplifyParams(epsilon=0.01)).strokes)
+        assert pool.counts["rebuilt"] >= 2 and pool.counts["ran"] == 3
+
+
 def test_raising_epsilon_never_increases_the_primitives():
     sketch = read_sketch(SAMPLES / "cup.scap")
     counts = []
