@@ -388,11 +388,8 @@ class KeptRun:
             if digest in pool._home:
                 self._homed[pool._home[digest]].append(u)
         self._done: dict[int, Simplified | SketchError] = {}
-        # each sketch in flight: its worker, that worker's pool when it was sent, and
-        # the order it was sent in
-        self._running: dict[Future, tuple[int, int, ProcessPoolExecutor, int]] = {}
-        self._in_flight = [0] * pool.jobs
-        self._sent = 0
+        # each sketch in flight, in the order sent: its worker, and that worker's pool
+        self._running: dict[Future, tuple[int, int, ProcessPoolExecutor]] = {}
         self._died: Counter[int] = Counter()  # by sketch: how many workers died on it
         self._mourned: set[ProcessPoolExecutor] = set()  # workers whose death was counted
         self.outputs: list[Simplified | SketchError | None] = [None] * len(sketches)
@@ -420,22 +417,18 @@ class KeptRun:
             return now
         finished, _ = wait(self._running, timeout, return_when=FIRST_COMPLETED)
         for future in finished:
-            w, u, sent_to, order = self._running.pop(future)
-            self._in_flight[w] -= 1
-            try:
-                out, how = future.result()
-            except BrokenProcessPool:  # the worker died (killed, out of memory)
-                if sent_to not in self._mourned:  # the first news of its death: on
-                    self._mourned.add(sent_to)  # the first sent of the sketches it had
-                    self._died[min([(order, u)] + [
-                        (o, v) for _, v, e, o in self._running.values() if e is sent_to])[1]] += 1
-                    if self._pool._workers[w] is sent_to:  # not started again on a send
-                        self._pool._restart(w)
+            w, u, sent_to = self._running[future]
+            if isinstance(future.exception(), BrokenProcessPool):  # killed, out of memory
+                self._mourn(w, sent_to)
+                del self._running[future]
                 if self._died[u] < 2:  # each sketch it had goes again
                     self._send(w, u, with_record=True)
                     continue
                 out, how = SketchError("the worker simplifying this drawing died twice "
                                        "(out of memory?)"), "refused"
+            else:
+                del self._running[future]
+                out, how = future.result()
             self._pool.counts[how] += 1
             if isinstance(out, NeedsRecord):
                 self._send(w, u, with_record=True)
@@ -446,6 +439,21 @@ class KeptRun:
             now.append(self._firsts[u])
             self._feed(w)
         return now
+
+    def _mourn(self, w: int, sent_to: ProcessPoolExecutor) -> None:
+        """Worker ``w``'s death (its pool ``sent_to``) counted once, against the sketch it
+        was running: the first sent of those it still had; the worker started again,
+        unless a send found it dead first and did."""
+        if sent_to in self._mourned:
+            return
+        self._mourned.add(sent_to)
+        self._died[next(u for _, u, pool in self._running.values() if pool is sent_to)] += 1
+        if self._pool._workers[w] is sent_to:
+            self._pool._restart(w)
+
+    def _in_flight(self, w: int) -> int:
+        """How many sketches worker ``w`` has in flight."""
+        return sum(x == w for x, _, _ in self._running.values())
 
     def cancel(self) -> None:
         """Take nothing more: what runs now finishes in its worker (and is kept there)."""
@@ -459,16 +467,14 @@ class KeptRun:
         args = (self._sketches[self._firsts[u]], params, regions, cover,
                 recorded if with_record else None, recorded is not None, points)
         future = self._pool._send(w, args)  # which may start the worker again first
-        self._running[future] = (w, u, self._pool._workers[w], self._sent)
-        self._in_flight[w] += 1
-        self._sent += 1
+        self._running[future] = (w, u, self._pool._workers[w])
 
     def _feed(self, w: int) -> None:
         """Keep worker ``w`` busy: its own sketches sent ``AHEAD`` in flight (the next
         waits in its queue while the caller holds or writes what came back, rather than
         the worker waiting for the caller), else, with none in flight, one not yet placed
         (one at a time: the rest stay for whichever worker is free first)."""
-        while self._in_flight[w] < self.AHEAD and self._homed[w]:
+        while self._in_flight(w) < self.AHEAD and self._homed[w]:
             self._send(w, self._homed[w].popleft())
-        if not self._in_flight[w] and self._free:  # new to it: its record, if kept, along
+        if not self._in_flight(w) and self._free:  # new to it: its record, if kept, along
             self._send(w, self._free.popleft(), with_record=True)

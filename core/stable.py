@@ -219,12 +219,12 @@ class Carried(NamedTuple):
 
 def _carried(strokes: list[Stroke], current: list[Stroke], width: float,
              support: list[Stroke] | None) -> Carried:
+    lines = _lines(current)  # dots say nothing of where a line is
+    drawn = lines if support is None else _lines(support)
     support = current if support is None else support
-    lines = [c.points for c in current if len(c.points) >= 2]
-    drawn = _lines(support)  # dots say nothing of where a line is
-    if not strokes or not lines:
+    segs = lines[1]
+    if not strokes or segs is None:
         return Carried(list(strokes), *_near(strokes, support, width, drawn))
-    segs = Segments.of(lines)
     points = [resample_polyline(s.points, SPACING * width) for s in strokes]
     whole, = _fitted([points], segs, width, [STILLNESS], ROUNDS)
     flat = np.concatenate(points)

@@ -280,7 +280,7 @@ def test_a_kept_worker_killed_with_two_sketches_in_flight_blames_only_the_one_it
         first = pool.simplify(sketches, SimplifyParams(epsilon=0.02), cover=0.06)
         records = [out.record for out in first]
         run = pool.start(sketches, SimplifyParams(epsilon=0.01), records=records)
-        assert run._in_flight == [2]  # its own sketches: one running, one queued
+        assert run._in_flight(0) == 2  # its own sketches: one running, one queued
         for pid in list(pool._workers[0]._processes):
             os.kill(pid, signal.SIGKILL)
         while not run.done:

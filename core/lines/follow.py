@@ -78,19 +78,19 @@ def _nearest_along(state, alive: list[int], points: np.ndarray, tangent: np.ndar
     sizes = np.fromiter(map(len, polylines), dtype=np.intp, count=len(polylines))
     ends = np.cumsum(sizes)
     running = arc_lengths(np.concatenate(polylines), ends - sizes, ends - 1)
+    ids = np.asarray(alive)
     for start in range(0, len(points), SAMPLES_AT_ONCE):  # each sample on its own
         part = slice(start, start + SAMPLES_AT_ONCE)
         i, seg = segs.running_along(points[part], tangent[part],
                                     work.tuning.follow_reach * work.d, work.tuning.follow_cos)
+        mine = points[part][i]
         v = segs.vector[seg]
-        length = np.hypot(v[:, 0], v[:, 1])
-        u = segs.along(seg, points[part][i])
-        foot = segs.origin[seg] + segs.vector[seg] * (u / length)[:, None]
-        dist = np.hypot(*(points[part][i] - foot).T)
+        u = segs.along(seg, mine)
+        foot = segs.origin[seg] + v * (u / np.hypot(v[:, 0], v[:, 1]))[:, None]
         # nearest first; ties by segment, in the order of curve ids: the same in every state
-        pick = nearest_of_each(i, dist, seg)
+        pick = nearest_of_each(i, np.hypot(*(mine - foot).T), seg)
         i, seg, u = i[pick] + start, seg[pick], u[pick]
-        curve[i] = np.asarray(alive)[segs.polyline[seg]]
+        curve[i] = ids[segs.polyline[seg]]
         at[i] = running[segs.start[seg]] + u
     return curve, at
 
